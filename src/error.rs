@@ -1,0 +1,75 @@
+//! # Errors
+//!
+//! Every failure a user can cause is a variant of [`Error`]: malformed knot
+//! vectors, degrees that do not fit, points outside a domain, non-finite input,
+//! singular systems, solvers that do not converge and runs that blow up.
+//! Public functions return `Result<_, Error>`; none of them panics on bad input
+//! and none returns a silent NaN.
+
+/// The one error type of hompm. Each message names the offending value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A knot vector that is empty, not non-decreasing, or has a knot of too high
+    /// multiplicity (book §4.3, thesis §6.1).
+    #[error("invalid knot vector: {0}")]
+    InvalidKnots(String),
+    /// A polynomial degree that does not fit the knot vector or the element type.
+    #[error("invalid degree: {0}")]
+    InvalidDegree(String),
+    /// A NaN or infinite number where a finite one is required.
+    #[error("non-finite input: {what} = {value}")]
+    NonFinite {
+        /// What the number was meant to be (e.g. "knot 3", "evaluation point").
+        what: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// An evaluation point (or particle) outside the domain of a basis.
+    #[error("point {x} lies outside the domain [{a}, {b}]")]
+    OutsideDomain {
+        /// The point.
+        x: f64,
+        /// Left end of the domain.
+        a: f64,
+        /// Right end of the domain.
+        b: f64,
+    },
+    /// Any other argument out of its documented range (dt ≤ 0, zero spans, …).
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+    /// A linear system that cannot be solved (singular or not positive definite).
+    #[error("singular system: {0}")]
+    Singular(String),
+    /// An iterative method that did not meet its stopping rule.
+    #[error("did not converge: {0}")]
+    NotConverged(String),
+    /// A time-stepping run whose state became non-finite or unphysical.
+    #[error("the run blew up: {0}")]
+    BlowUp(String),
+    /// A table id that is not registered.
+    #[error("unknown table id '{0}' (see `hompm table --list`)")]
+    UnknownTable(String),
+    /// A published-number file that cannot be read.
+    #[error("published data {id}: {message}")]
+    Published {
+        /// The table id.
+        id: String,
+        /// What is wrong with it.
+        message: String,
+    },
+}
+
+/// Shorthand used throughout the crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Returns `Ok(x)` if `x` is finite, otherwise [`Error::NonFinite`] naming `what`.
+pub fn finite(what: &str, x: f64) -> Result<f64> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(Error::NonFinite {
+            what: what.to_string(),
+            value: x,
+        })
+    }
+}

@@ -1,0 +1,178 @@
+//! # Lagrange basis functions (P1 and P2)
+//!
+//! The classical MPM basis: piecewise-linear hat functions on `elements`
+//! equal elements of [a, b] (thesis §5.1, TLS paper §3.2), and piecewise
+//! quadratic functions with a mid-node per element (thesis §5.2).
+//!
+//! On the reference element ξ ∈ [0, 1] (thesis §5.1, T_{e_k}(ξ) = x_k + hξ):
+//! - P1: N̂_1 = 1 − ξ, N̂_2 = ξ;
+//! - P2: N̂_1 = 2ξ² − 3ξ + 1, N̂_2 = −4ξ² + 4ξ, N̂_3 = 2ξ² − ξ.
+//!
+//! The P2 end-node functions take negative values inside the element (minimum
+//! −1/8 at ξ = 1/4 and 3/4), which is what makes lumped P2 masses negative
+//! (thesis §5.2). Elements are half-open [x_k, x_{k+1}); the right end of the
+//! domain belongs to the last element, as for knot spans.
+
+use crate::basis::{Basis1d, LocalBasis};
+use crate::error::{finite, Error, Result};
+
+/// Polynomial order of a Lagrange element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LagrangeOrder {
+    /// Linear (P1), two nodes per element.
+    Linear,
+    /// Quadratic (P2), three nodes per element.
+    Quadratic,
+}
+
+impl LagrangeOrder {
+    /// The polynomial degree, 1 or 2.
+    pub fn degree(self) -> usize {
+        match self {
+            LagrangeOrder::Linear => 1,
+            LagrangeOrder::Quadratic => 2,
+        }
+    }
+}
+
+/// Reference shape functions N̂_i(ξ) on [0, 1], thesis §5.1 and §5.2.
+pub fn reference_shape_functions(order: LagrangeOrder, xi: f64) -> Vec<f64> {
+    match order {
+        LagrangeOrder::Linear => vec![1.0 - xi, xi],
+        LagrangeOrder::Quadratic => vec![
+            2.0 * xi * xi - 3.0 * xi + 1.0,
+            -4.0 * xi * xi + 4.0 * xi,
+            2.0 * xi * xi - xi,
+        ],
+    }
+}
+
+/// Reference shape-function derivatives dN̂_i/dξ on [0, 1].
+pub fn reference_shape_gradients(order: LagrangeOrder, xi: f64) -> Vec<f64> {
+    match order {
+        LagrangeOrder::Linear => vec![-1.0, 1.0],
+        LagrangeOrder::Quadratic => vec![4.0 * xi - 3.0, -8.0 * xi + 4.0, 4.0 * xi - 1.0],
+    }
+}
+
+/// A uniform mesh of P1 or P2 Lagrange elements on [a, b].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagrangeBasis {
+    a: f64,
+    b: f64,
+    elements: usize,
+    order: LagrangeOrder,
+}
+
+impl LagrangeBasis {
+    /// `elements` equal elements of size h = (b − a)/elements (thesis §5.1).
+    pub fn new(a: f64, b: f64, elements: usize, order: LagrangeOrder) -> Result<Self> {
+        finite("left end a", a)?;
+        finite("right end b", b)?;
+        if b <= a {
+            return Err(Error::InvalidArgument(format!(
+                "the domain [{a}, {b}] has zero or negative length"
+            )));
+        }
+        if elements == 0 {
+            return Err(Error::InvalidArgument(
+                "a Lagrange mesh needs at least one element".into(),
+            ));
+        }
+        Ok(Self {
+            a,
+            b,
+            elements,
+            order,
+        })
+    }
+
+    /// The element order.
+    pub fn order(&self) -> LagrangeOrder {
+        self.order
+    }
+
+    /// Number of elements.
+    pub fn elements(&self) -> usize {
+        self.elements
+    }
+
+    /// Element size h.
+    pub fn element_size(&self) -> f64 {
+        (self.b - self.a) / self.elements as f64
+    }
+
+    /// Node positions: element ends, and for P2 also element mid-points.
+    pub fn nodes(&self) -> Vec<f64> {
+        let d = self.order.degree();
+        let n = d * self.elements + 1;
+        let step = self.element_size() / d as f64;
+        (0..n).map(|k| self.a + k as f64 * step).collect()
+    }
+
+    /// The element k with x_k ≤ x < x_{k+1}; the right end belongs to the last.
+    pub fn element_of(&self, x: f64) -> Result<usize> {
+        finite("evaluation point", x)?;
+        if x < self.a || x > self.b {
+            return Err(Error::OutsideDomain {
+                x,
+                a: self.a,
+                b: self.b,
+            });
+        }
+        let k = ((x - self.a) / self.element_size()).floor() as usize;
+        Ok(k.min(self.elements - 1))
+    }
+}
+
+impl Basis1d for LagrangeBasis {
+    fn num_basis(&self) -> usize {
+        self.order.degree() * self.elements + 1
+    }
+    fn domain(&self) -> (f64, f64) {
+        (self.a, self.b)
+    }
+    /// Values via N_i(x) = N̂_i(T⁻¹(x)); derivatives via the chain rule, 1/h.
+    /// Derivatives of order ≥ 2 are returned as zero for P1 and as the constant
+    /// second derivative for P2.
+    fn local(&self, x: f64, order: usize) -> Result<LocalBasis> {
+        let k = self.element_of(x)?;
+        let h = self.element_size();
+        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        let deg = self.order.degree();
+        let mut derivatives = vec![reference_shape_functions(self.order, xi)];
+        if order >= 1 {
+            derivatives.push(
+                reference_shape_gradients(self.order, xi)
+                    .into_iter()
+                    .map(|g| g / h)
+                    .collect(),
+            );
+        }
+        for m in 2..=order {
+            let row = match (self.order, m) {
+                (LagrangeOrder::Quadratic, 2) => vec![4.0, -8.0, 4.0]
+                    .into_iter()
+                    .map(|g| g / (h * h))
+                    .collect(),
+                _ => vec![0.0; deg + 1],
+            };
+            derivatives.push(row);
+        }
+        Ok(LocalBasis {
+            first: deg * k,
+            derivatives,
+        })
+    }
+    /// Every interior element boundary (P1 and P2 gradients jump there).
+    fn gradient_breaks(&self) -> Vec<f64> {
+        let h = self.element_size();
+        (1..self.elements).map(|k| self.a + k as f64 * h).collect()
+    }
+    fn cells(&self) -> Vec<(f64, f64)> {
+        let h = self.element_size();
+        (0..self.elements)
+            .map(|k| (self.a + k as f64 * h, self.a + (k + 1) as f64 * h))
+            .collect()
+    }
+}

@@ -1,0 +1,33 @@
+//! # hompm — an executable specification of the high-order Material Point Method
+//!
+//! hompm implements the equations of four documents (cited by short name):
+//! the **book** chapter of Wobbes, Tielen, Möller, Vuik & Galavi (2019), Tielen's
+//! MSc **thesis** (2016), the **MLS paper** of Tran et al., and the **TLS paper**
+//! of Wobbes et al. (2019). Every public item cites the equation it implements;
+//! `docs/equations.md` maps each equation to its code and its test.
+//!
+//! ## Map of the crate, in data-flow order
+//! A lower layer never imports a higher one.
+//!
+//! | layer | module | what it holds |
+//! |---|---|---|
+//! | 0 | [`error`] | [`Error`]: every user-facing failure |
+//! | 1 | [`basis`] | the [`basis::Basis1d`] interface shared by all 1D bases |
+//! | 1 | [`spline`] | knot vectors, Cox–de Boor (book Eqs. 4.19–4.23), 2D tensor basis |
+//! | 1 | [`lagrange`] | P1 and P2 Lagrange shape functions (thesis §5.1–5.2) |
+//! | 1 | [`quadrature`] | Gauss–Legendre rules; the thesis' half-span rule (§7.2) |
+//! | 2 | [`mass`] | consistent and lumped mass matrices, assembly (thesis A.1–A.2) |
+//! | 6 | [`tables`] | the registry of published tables and their computations |
+//!
+//! Later layers (solvers, reconstruction, the MPM step, scenes, the report)
+//! slot in between `mass` and `tables`.
+
+pub mod basis;
+pub mod error;
+pub mod lagrange;
+pub mod mass;
+pub mod quadrature;
+pub mod spline;
+pub mod tables;
+
+pub use error::{Error, Result};

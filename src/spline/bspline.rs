@@ -1,0 +1,234 @@
+//! # B-spline basis functions: Cox–de Boor
+//!
+//! Two evaluators of the same functions:
+//!
+//! 1. [`cox_de_boor`] and [`cox_de_boor_derivative`] are the recursion of book
+//!    Eqs. (4.19)–(4.20) and the derivative formula (4.23), written literally,
+//!    one function at a time. They are the specification.
+//! 2. [`KnotVector::local_basis`] returns the p+1 non-zero functions on one
+//!    span and their derivatives at once (the triangular scheme of Piegl &
+//!    Tiller, *The NURBS Book*, A2.2–A2.3). It is what the rest of hompm
+//!    calls; property tests check it against the literal recursion.
+//!
+//! The quotient convention 0/0 := 0: a term of Eq. (4.20) or (4.23) whose
+//! denominator ξ_{i+p} − ξ_i (or ξ_{i+p+1} − ξ_{i+1}) vanishes is dropped,
+//! because its companion function φ_{i,p−1} (or φ_{i+1,p−1}) is then zero
+//! everywhere.
+//!
+//! The derivative carries a minus sign between its two terms (book Eq. 4.23,
+//! TLS paper §4). The MLS paper's Eq. (3) prints "+"; a finite-difference test
+//! (`derivative_sign_is_minus` in tests/properties_bspline.rs) decides for the
+//! book, and docs/conventions.md records it.
+
+use crate::basis::{Basis1d, LocalBasis};
+use crate::error::{Error, Result};
+use crate::spline::knots::KnotVector;
+
+/// a / b with the convention 0/0 := 0 (and x/0 := 0: a zero-length support
+/// always multiplies a function that is identically zero).
+fn ratio(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        0.0
+    } else {
+        a / b
+    }
+}
+
+/// φ_{i,p}(x) by the literal Cox–de Boor recursion, book Eqs. (4.19)–(4.20).
+///
+/// `i` is 0-based; `p` may be any degree up to the knot vector's own. The
+/// degree-0 functions follow Eq. (4.19), ξ_i ≤ x < ξ_{i+1}, except that at the
+/// right end of the domain the last non-empty span is taken (half-open span
+/// convention, docs/conventions.md). Errors for a point outside the domain or
+/// an index out of range.
+pub fn cox_de_boor(knots: &KnotVector, i: usize, p: usize, x: f64) -> Result<f64> {
+    knots.check_point(x)?;
+    check_index(knots, i, p)?;
+    Ok(cox_de_boor_unchecked(knots, i, p, x))
+}
+
+fn check_index(knots: &KnotVector, i: usize, p: usize) -> Result<()> {
+    if p > knots.degree() {
+        return Err(Error::InvalidDegree(format!(
+            "degree {p} exceeds the knot vector's degree {}",
+            knots.degree()
+        )));
+    }
+    if i + p + 1 >= knots.knots().len() {
+        return Err(Error::InvalidArgument(format!(
+            "basis index {i} out of range for degree {p} ({} functions)",
+            knots.knots().len() - p - 1
+        )));
+    }
+    Ok(())
+}
+
+fn cox_de_boor_unchecked(knots: &KnotVector, i: usize, p: usize, x: f64) -> f64 {
+    let t = knots.knots();
+    if p == 0 {
+        let (_, b) = knots.domain();
+        // Eq. (4.19), with the right end of the domain given to the last
+        // non-empty span (and to no span beyond the domain).
+        let on = if x == b {
+            i == knots.last_span()
+        } else {
+            t[i] <= x && x < t[i + 1]
+        };
+        return if on { 1.0 } else { 0.0 };
+    }
+    let left = ratio(x - t[i], t[i + p] - t[i]) * cox_de_boor_unchecked(knots, i, p - 1, x);
+    let right = ratio(t[i + p + 1] - x, t[i + p + 1] - t[i + 1])
+        * cox_de_boor_unchecked(knots, i + 1, p - 1, x);
+    left + right
+}
+
+/// dφ_{i,p}/dx by book Eq. (4.23), literally:
+/// p/(ξ_{i+p} − ξ_i) φ_{i,p−1} − p/(ξ_{i+p+1} − ξ_{i+1}) φ_{i+1,p−1}.
+pub fn cox_de_boor_derivative(knots: &KnotVector, i: usize, p: usize, x: f64) -> Result<f64> {
+    knots.check_point(x)?;
+    check_index(knots, i, p)?;
+    if p == 0 {
+        return Ok(0.0);
+    }
+    let t = knots.knots();
+    let pf = p as f64;
+    Ok(
+        ratio(pf, t[i + p] - t[i]) * cox_de_boor_unchecked(knots, i, p - 1, x)
+            - ratio(pf, t[i + p + 1] - t[i + 1]) * cox_de_boor_unchecked(knots, i + 1, p - 1, x),
+    )
+}
+
+impl KnotVector {
+    /// The p+1 functions that may be non-zero at `x`, with derivatives up to
+    /// `order` (orders above p are zero). Same functions as [`cox_de_boor`];
+    /// derivatives as Eq. (4.23) applied repeatedly (NURBS Book A2.3).
+    pub fn local_basis(&self, x: f64, order: usize) -> Result<LocalBasis> {
+        let span = self.find_span(x)?;
+        Ok(self.evaluate_on_span(span, x, order))
+    }
+
+    /// The polynomial piece of span `span` (0-based knot index, ξ_span < ξ_{span+1})
+    /// evaluated at any `x` in the closed span [ξ_span, ξ_{span+1}]: at the
+    /// span's right end this is the one-sided limit from the left, which
+    /// [`KnotVector::local_basis`] does not give (spans are half-open).
+    pub fn local_basis_on_span(&self, span: usize, x: f64, order: usize) -> Result<LocalBasis> {
+        crate::error::finite("evaluation point", x)?;
+        let t = self.knots();
+        if span < self.degree() || span >= self.num_basis() || t[span] >= t[span + 1] {
+            return Err(Error::InvalidArgument(format!(
+                "{span} is not the index of a non-empty knot span inside the domain"
+            )));
+        }
+        if x < t[span] || x > t[span + 1] {
+            return Err(Error::OutsideDomain {
+                x,
+                a: t[span],
+                b: t[span + 1],
+            });
+        }
+        Ok(self.evaluate_on_span(span, x, order))
+    }
+
+    fn evaluate_on_span(&self, span: usize, x: f64, order: usize) -> LocalBasis {
+        let p = self.degree();
+        let t = self.knots();
+        let mut ndu = vec![vec![0.0; p + 1]; p + 1];
+        let mut left = vec![0.0; p + 1];
+        let mut right = vec![0.0; p + 1];
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = x - t[span + 1 - j];
+            right[j] = t[span + j] - x;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut ders = vec![vec![0.0; p + 1]; order + 1];
+        for (j, d) in ders[0].iter_mut().enumerate() {
+            *d = ndu[j][p];
+        }
+        let n = order.min(p);
+        let mut a = vec![vec![0.0; p + 1]; 2];
+        for r in 0..=p {
+            let (mut s1, mut s2) = (0usize, 1usize);
+            a[0][0] = 1.0;
+            for k in 1..=n {
+                let mut d = 0.0;
+                let rk = r as isize - k as isize;
+                let pk = p - k;
+                if r >= k {
+                    a[s2][0] = a[s1][0] / ndu[pk + 1][rk as usize];
+                    d = a[s2][0] * ndu[rk as usize][pk];
+                }
+                let j1: usize = if rk >= -1 { 1 } else { (-rk) as usize };
+                let j2: usize = if r as isize - 1 <= pk as isize {
+                    k - 1
+                } else {
+                    p - r
+                };
+                for j in j1..=j2 {
+                    let idx = (rk + j as isize) as usize;
+                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                    d += a[s2][j] * ndu[idx][pk];
+                }
+                if r <= pk {
+                    a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                    d += a[s2][k] * ndu[r][pk];
+                }
+                ders[k][r] = d;
+                std::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut factor = p as f64;
+        for (k, row) in ders.iter_mut().enumerate().take(n + 1).skip(1) {
+            for v in row.iter_mut() {
+                *v *= factor;
+            }
+            factor *= (p - k) as f64;
+        }
+        LocalBasis {
+            first: span - p,
+            derivatives: ders,
+        }
+    }
+
+    /// All n basis values at `x` as a dense vector (for the CLI and tests).
+    pub fn dense_values(&self, x: f64) -> Result<Vec<f64>> {
+        Ok(self.local_basis(x, 0)?.dense(0, self.num_basis()))
+    }
+
+    /// All n first derivatives at `x` as a dense vector.
+    pub fn dense_derivatives(&self, x: f64) -> Result<Vec<f64>> {
+        Ok(self.local_basis(x, 1)?.dense(1, self.num_basis()))
+    }
+}
+
+impl Basis1d for KnotVector {
+    fn num_basis(&self) -> usize {
+        KnotVector::num_basis(self)
+    }
+    fn domain(&self) -> (f64, f64) {
+        KnotVector::domain(self)
+    }
+    fn local(&self, x: f64, order: usize) -> Result<LocalBasis> {
+        self.local_basis(x, order)
+    }
+    /// Interior knots of multiplicity ≥ p, where the functions are at most C⁰
+    /// (thesis §6.1: C^{p−k} at a knot of multiplicity k).
+    fn gradient_breaks(&self) -> Vec<f64> {
+        let (a, b) = self.domain();
+        self.breakpoints()
+            .into_iter()
+            .filter(|&(k, m)| k > a && k < b && m >= self.degree().max(1))
+            .map(|(k, _)| k)
+            .collect()
+    }
+    fn cells(&self) -> Vec<(f64, f64)> {
+        self.spans()
+    }
+}

@@ -1,0 +1,189 @@
+//! # Knot vectors
+//!
+//! A knot vector Ξ = {ξ_1, …, ξ_{n+p+1}} is a non-decreasing sequence of reals;
+//! with the degree p it defines n B-spline basis functions (book §4.3, thesis
+//! §6.1, TLS paper §4, MLS paper §2). The non-empty intervals [ξ_i, ξ_{i+1})
+//! are the *knot spans*.
+//!
+//! Conventions (docs/conventions.md, "Knot spans"):
+//! - the domain is [ξ_{p+1}, ξ_{n+1}] (1-based), which is [first, last knot]
+//!   for an open knot vector;
+//! - spans are half-open, [ξ_i, ξ_{i+1}); the right end of the domain belongs
+//!   to the last non-empty span, so partition of unity holds there too;
+//! - no knot may be repeated more than p+1 times (it would create a basis
+//!   function that is identically zero).
+
+use crate::error::{finite, Error, Result};
+
+/// A validated knot vector together with the polynomial degree p.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KnotVector {
+    knots: Vec<f64>,
+    degree: usize,
+}
+
+impl KnotVector {
+    /// Validates a general knot vector for degree `degree`.
+    ///
+    /// Errors: an empty or non-finite knot, decreasing knots, fewer than p+2
+    /// knots, a knot of multiplicity above p+1, a domain of zero length.
+    /// Book §4.3 (Ξ non-decreasing); thesis §6.1 (repeated knots).
+    pub fn new(knots: Vec<f64>, degree: usize) -> Result<Self> {
+        if knots.is_empty() {
+            return Err(Error::InvalidKnots("the knot vector is empty".into()));
+        }
+        for (i, k) in knots.iter().enumerate() {
+            finite(&format!("knot {i}"), *k)?;
+        }
+        for i in 1..knots.len() {
+            if knots[i] < knots[i - 1] {
+                return Err(Error::InvalidKnots(format!(
+                    "knots must be non-decreasing, but knot {} = {} < knot {} = {}",
+                    i,
+                    knots[i],
+                    i - 1,
+                    knots[i - 1]
+                )));
+            }
+        }
+        if knots.len() < degree + 2 {
+            return Err(Error::InvalidDegree(format!(
+                "degree {degree} needs at least {} knots, got {}",
+                degree + 2,
+                knots.len()
+            )));
+        }
+        let mut run = 1;
+        for i in 1..=knots.len() {
+            if i < knots.len() && knots[i] == knots[i - 1] {
+                run += 1;
+                continue;
+            }
+            if run > degree + 1 {
+                return Err(Error::InvalidKnots(format!(
+                    "knot {} has multiplicity {run}, above degree + 1 = {}",
+                    knots[i - 1],
+                    degree + 1
+                )));
+            }
+            run = 1;
+        }
+        let n = knots.len() - degree - 1;
+        if knots[degree] >= knots[n] {
+            return Err(Error::InvalidKnots(format!(
+                "the domain [{}, {}] has zero length",
+                knots[degree], knots[n]
+            )));
+        }
+        Ok(Self { knots, degree })
+    }
+
+    /// The open uniform knot vector on [a, b] with `spans` knot spans and degree
+    /// p: a and b repeated p+1 times, interior knots a + kα with α = (b−a)/spans.
+    ///
+    /// Thesis §6.2 writes it for p = 2 as {0,0,0,α,…,(n−3)α,L,L,L}.
+    pub fn open_uniform(a: f64, b: f64, spans: usize, degree: usize) -> Result<Self> {
+        finite("left end a", a)?;
+        finite("right end b", b)?;
+        if b <= a {
+            return Err(Error::InvalidKnots(format!(
+                "the domain [{a}, {b}] has zero or negative length"
+            )));
+        }
+        if spans == 0 {
+            return Err(Error::InvalidArgument(
+                "an open uniform knot vector needs at least one span".into(),
+            ));
+        }
+        let mut knots = vec![a; degree + 1];
+        let alpha = (b - a) / spans as f64;
+        for k in 1..spans {
+            knots.push(a + k as f64 * alpha);
+        }
+        knots.extend(std::iter::repeat_n(b, degree + 1));
+        Self::new(knots, degree)
+    }
+
+    /// The knots ξ_1 … ξ_{n+p+1} (stored 0-based).
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// The polynomial degree p.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The number of basis functions n = (number of knots) − p − 1.
+    pub fn num_basis(&self) -> usize {
+        self.knots.len() - self.degree - 1
+    }
+
+    /// The domain [ξ_{p+1}, ξ_{n+1}] (1-based) on which the basis is a partition of unity.
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.num_basis()])
+    }
+
+    /// The non-empty knot spans inside the domain, as (left, right) pairs.
+    pub fn spans(&self) -> Vec<(f64, f64)> {
+        (self.degree..self.num_basis())
+            .filter(|&i| self.knots[i] < self.knots[i + 1])
+            .map(|i| (self.knots[i], self.knots[i + 1]))
+            .collect()
+    }
+
+    /// 0-based index of the last non-empty span inside the domain.
+    pub(crate) fn last_span(&self) -> usize {
+        (self.degree..self.num_basis())
+            .rev()
+            .find(|&i| self.knots[i] < self.knots[i + 1])
+            .expect("validated knot vectors have a non-empty domain")
+    }
+
+    /// Checks that `x` is finite and inside the domain.
+    pub fn check_point(&self, x: f64) -> Result<f64> {
+        finite("evaluation point", x)?;
+        let (a, b) = self.domain();
+        if x < a || x > b {
+            return Err(Error::OutsideDomain { x, a, b });
+        }
+        Ok(x)
+    }
+
+    /// The 0-based index i of the span with ξ_i ≤ x < ξ_{i+1}, p ≤ i < n. The
+    /// right end of the domain belongs to the last non-empty span.
+    pub fn find_span(&self, x: f64) -> Result<usize> {
+        self.check_point(x)?;
+        let (_, b) = self.domain();
+        if x == b {
+            return Ok(self.last_span());
+        }
+        // Binary search on [p, n): the largest i with knots[i] <= x.
+        let (mut lo, mut hi) = (self.degree, self.num_basis());
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if self.knots[mid] <= x {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Ok(lo)
+    }
+
+    /// The distinct knots inside the domain with their multiplicities.
+    pub fn breakpoints(&self) -> Vec<(f64, usize)> {
+        let (a, b) = self.domain();
+        let mut out: Vec<(f64, usize)> = Vec::new();
+        for &k in &self.knots {
+            if k < a || k > b {
+                continue;
+            }
+            match out.last_mut() {
+                Some((v, m)) if *v == k => *m += 1,
+                _ => out.push((k, 1)),
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,13 @@
+//! # B-splines
+//!
+//! Knot vectors ([`KnotVector`]), the Cox–de Boor recursion in its literal form
+//! and in the span-at-once form ([`bspline`]), and the tensor-product 2D basis
+//! ([`tensor`]). Book §4.3, Eqs. (4.19)–(4.23); thesis §6.1–6.2; TLS paper §4;
+//! MLS paper Eqs. (1)–(5).
+
+pub mod bspline;
+pub mod knots;
+pub mod tensor;
+
+pub use knots::KnotVector;
+pub use tensor::TensorBasis2d;

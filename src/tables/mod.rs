@@ -1,0 +1,338 @@
+//! # The registry of published tables
+//!
+//! A *published table* is a JSON file in `golden/published/`, transcribed from
+//! a seed with its table and page. A *registered table* pairs it with a
+//! function that computes the same grid from the documented setup, and with the
+//! tolerance of its kind (DEVELOPERS.md, "Honesty of numbers"):
+//!
+//! | kind | rule |
+//! |---|---|
+//! | [`Tolerance::Exact`] | integer counts: equal |
+//! | [`Tolerance::Relative`] | condition numbers 1 %, RMS errors 2 % |
+//! | [`Tolerance::MachinePrecision`] | computed ≤ 1e-13 and within one decade of the published value |
+//!
+//! Adding a table is one registration in [`registry`] plus one JSON file.
+//! Published values are only ever read from the JSON; a computation never sees
+//! them.
+
+pub mod thesis;
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// Where a published number comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    /// Short name of the document: book, thesis, tls, mls.
+    pub document: String,
+    /// Table, figure or section, as printed.
+    pub table: String,
+    /// Printed page (or page range).
+    pub page: String,
+}
+
+/// A published table as transcribed in `golden/published/<id>.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Published {
+    /// Table id, e.g. `book-4.2`.
+    pub id: String,
+    /// Human title.
+    pub title: String,
+    /// Seed file name in ../shared/seeds.
+    pub seed: String,
+    /// Table and page.
+    pub source: Source,
+    /// One label per row.
+    pub row_labels: Vec<String>,
+    /// One label per column.
+    pub col_labels: Vec<String>,
+    /// The numbers as printed; `null` where the table is blank.
+    pub values: Vec<Vec<Option<f64>>>,
+    /// Unit of the values.
+    pub unit: String,
+}
+
+impl Published {
+    /// Parses and checks the shape of a published-table JSON text.
+    pub fn parse(id: &str, json: &str) -> Result<Self> {
+        let p: Published = serde_json::from_str(json).map_err(|e| Error::Published {
+            id: id.into(),
+            message: e.to_string(),
+        })?;
+        if p.values.len() != p.row_labels.len()
+            || p.values.iter().any(|r| r.len() != p.col_labels.len())
+        {
+            return Err(Error::Published {
+                id: id.into(),
+                message: "values do not match the row and column labels".into(),
+            });
+        }
+        Ok(p)
+    }
+
+    /// Number of published (non-null) numbers.
+    pub fn count(&self) -> usize {
+        self.values.iter().flatten().filter(|v| v.is_some()).count()
+    }
+}
+
+/// How close a computed number must be to count as reproduced.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Tolerance {
+    /// Equal (integer counts).
+    Exact,
+    /// |computed − published| ≤ tol · |published|.
+    Relative(f64),
+    /// computed ≤ 1e-13 and |log10(computed/published)| ≤ 1 (same decade).
+    MachinePrecision,
+}
+
+impl Tolerance {
+    /// Condition numbers: 1 % (DEVELOPERS.md).
+    pub const CONDITION_NUMBER: Tolerance = Tolerance::Relative(0.01);
+    /// RMS errors: 2 % (DEVELOPERS.md).
+    pub const RMS: Tolerance = Tolerance::Relative(0.02);
+
+    /// Whether `computed` reproduces `published`.
+    pub fn accepts(self, published: f64, computed: f64) -> bool {
+        if !computed.is_finite() {
+            return false;
+        }
+        match self {
+            Tolerance::Exact => computed == published,
+            Tolerance::Relative(tol) => (computed - published).abs() <= tol * published.abs(),
+            Tolerance::MachinePrecision => {
+                let c = computed.abs().max(1e-300);
+                let p = published.abs().max(1e-300);
+                computed.abs() <= 1e-13 && (c / p).log10().abs() <= 1.0
+            }
+        }
+    }
+}
+
+/// Status of one published number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Within the tolerance of its kind.
+    Reproduced,
+    /// Computed, but outside the tolerance.
+    Deviates,
+    /// Not computed (yet), or blank in the publication.
+    NotComputed,
+}
+
+/// Options of a table computation.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions {
+    /// Reduced sizes for smoke tests.
+    pub quick: bool,
+}
+
+/// What a table computation returns.
+#[derive(Debug, Clone, Default)]
+pub struct Computed {
+    /// Same shape as the published values; `None` where not computed.
+    pub values: Vec<Vec<Option<f64>>>,
+    /// Free-text findings shown under the table (spreads, alternatives, …).
+    pub notes: Vec<String>,
+}
+
+/// A registered table: published numbers, setup, tolerance and computation.
+pub struct TableSpec {
+    /// Table id.
+    pub id: &'static str,
+    /// The published JSON text (compiled in from golden/published).
+    pub published_json: &'static str,
+    /// The setup in one paragraph, as computed here.
+    pub setup: &'static str,
+    /// Tolerance kind per row; a single entry applies to every row.
+    pub tolerances: &'static [Tolerance],
+    /// Computes the table.
+    pub compute: fn(&RunOptions) -> Result<Computed>,
+}
+
+impl TableSpec {
+    fn tolerance(&self, row: usize) -> Tolerance {
+        if self.tolerances.len() == 1 {
+            self.tolerances[0]
+        } else {
+            self.tolerances[row]
+        }
+    }
+}
+
+/// Published, computed, deviation and status of one table (the `table` JSON
+/// schema of DESIGN.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct TableReport {
+    /// Table id.
+    pub id: String,
+    /// Title.
+    pub title: String,
+    /// Seed file.
+    pub seed: String,
+    /// Table and page.
+    pub source: Source,
+    /// Setup paragraph.
+    pub setup: String,
+    /// Unit of the values.
+    pub unit: String,
+    /// Row labels.
+    pub row_labels: Vec<String>,
+    /// Column labels.
+    pub col_labels: Vec<String>,
+    /// Published values.
+    pub published: Vec<Vec<Option<f64>>>,
+    /// Computed values.
+    pub computed: Vec<Vec<Option<f64>>>,
+    /// (computed − published)/|published|, or the difference where published is 0.
+    pub deviation: Vec<Vec<Option<f64>>>,
+    /// Status per entry.
+    pub status: Vec<Vec<Status>>,
+    /// Tolerance per row.
+    pub tolerance: Vec<Tolerance>,
+    /// Findings.
+    pub notes: Vec<String>,
+}
+
+impl TableReport {
+    /// (reproduced, published) counts.
+    pub fn counts(&self) -> (usize, usize) {
+        let mut rep = 0;
+        let mut total = 0;
+        for (prow, srow) in self.published.iter().zip(&self.status) {
+            for (p, s) in prow.iter().zip(srow) {
+                if p.is_some() {
+                    total += 1;
+                    if *s == Status::Reproduced {
+                        rep += 1;
+                    }
+                }
+            }
+        }
+        (rep, total)
+    }
+
+    /// Human-readable rendering: one line per published number.
+    pub fn render_text(&self) -> String {
+        let mut s = format!(
+            "{} — {}\nsource: {} {}, p. {} (seed {})\nsetup: {}\nunit: {}\n\n",
+            self.id,
+            self.title,
+            self.source.document,
+            self.source.table,
+            self.source.page,
+            self.seed,
+            self.setup,
+            self.unit
+        );
+        s.push_str(&format!(
+            "{:<24} {:<12} {:>14} {:>14} {:>11}  {}\n",
+            "row", "column", "published", "computed", "deviation", "status"
+        ));
+        for (r, rl) in self.row_labels.iter().enumerate() {
+            for (c, cl) in self.col_labels.iter().enumerate() {
+                let p = self.published[r][c];
+                let v = self.computed[r][c];
+                if p.is_none() && v.is_none() {
+                    continue;
+                }
+                let fmt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.6e}"));
+                let dev = self.deviation[r][c]
+                    .map_or("—".to_string(), |d| format!("{:+.3}%", 100.0 * d));
+                let st = match (p, self.status[r][c]) {
+                    (None, _) => "extra".to_string(),
+                    (_, st) => serde_json::to_value(st)
+                        .ok()
+                        .and_then(|v| v.as_str().map(String::from))
+                        .unwrap_or_default(),
+                };
+                s.push_str(&format!(
+                    "{:<24} {:<12} {:>14} {:>14} {:>11}  {}\n",
+                    rl,
+                    cl,
+                    fmt(p),
+                    fmt(v),
+                    dev,
+                    st
+                ));
+            }
+        }
+        let (rep, total) = self.counts();
+        s.push_str(&format!(
+            "\n{rep} of {total} published numbers reproduced\n"
+        ));
+        for n in &self.notes {
+            s.push_str(&format!("note: {n}\n"));
+        }
+        s
+    }
+}
+
+/// Every registered table, in the order of DESIGN.md.
+pub fn registry() -> Vec<TableSpec> {
+    vec![thesis::appendix_a1()]
+}
+
+/// The ids of all registered tables.
+pub fn ids() -> Vec<&'static str> {
+    registry().iter().map(|t| t.id).collect()
+}
+
+/// Looks up a table by id.
+pub fn find(id: &str) -> Result<TableSpec> {
+    registry()
+        .into_iter()
+        .find(|t| t.id == id)
+        .ok_or_else(|| Error::UnknownTable(id.to_string()))
+}
+
+/// Computes one table and compares it with its published numbers.
+pub fn run(spec: &TableSpec, options: &RunOptions) -> Result<TableReport> {
+    let published = Published::parse(spec.id, spec.published_json)?;
+    let computed = (spec.compute)(options)?;
+    compare(spec, &published, computed)
+}
+
+/// Builds the report from published and computed grids.
+pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> Result<TableReport> {
+    let rows = published.row_labels.len();
+    let cols = published.col_labels.len();
+    if computed.values.len() != rows || computed.values.iter().any(|r| r.len() != cols) {
+        return Err(Error::Published {
+            id: spec.id.into(),
+            message: format!("the computation returned a grid that is not {rows}×{cols}"),
+        });
+    }
+    let mut deviation = vec![vec![None; cols]; rows];
+    let mut status = vec![vec![Status::NotComputed; cols]; rows];
+    for r in 0..rows {
+        for c in 0..cols {
+            if let (Some(p), Some(v)) = (published.values[r][c], computed.values[r][c]) {
+                deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
+                status[r][c] = if spec.tolerance(r).accepts(p, v) {
+                    Status::Reproduced
+                } else {
+                    Status::Deviates
+                };
+            }
+        }
+    }
+    Ok(TableReport {
+        id: spec.id.into(),
+        title: published.title.clone(),
+        seed: published.seed.clone(),
+        source: published.source.clone(),
+        setup: spec.setup.into(),
+        unit: published.unit.clone(),
+        row_labels: published.row_labels.clone(),
+        col_labels: published.col_labels.clone(),
+        published: published.values.clone(),
+        computed: computed.values,
+        deviation,
+        status,
+        tolerance: (0..rows).map(|r| spec.tolerance(r)).collect(),
+        notes: computed.notes,
+    })
+}

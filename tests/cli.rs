@@ -1,0 +1,144 @@
+//! The command line as users meet it: JSON schemas, and one-line errors.
+
+use std::process::Command;
+
+fn hompm(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_hompm"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn basis_json_has_the_documented_keys() {
+    let (code, out, _) = hompm(&[
+        "basis",
+        "--degree",
+        "2",
+        "--knots",
+        "0,0,0,0.5,1,1,1",
+        "--at",
+        "0,0.25,1",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["degree"], 2);
+    assert_eq!(v["knots"].as_array().unwrap().len(), 7);
+    assert_eq!(v["points"].as_array().unwrap().len(), 3);
+    let values = v["values"].as_array().unwrap();
+    assert_eq!(values.len(), 3);
+    assert_eq!(values[0].as_array().unwrap().len(), 4);
+    assert!(
+        v.get("derivatives").is_none(),
+        "derivatives only with --derivatives"
+    );
+    let (_, out, _) = hompm(&[
+        "basis",
+        "--degree",
+        "2",
+        "--knots",
+        "0,0,0,0.5,1,1,1",
+        "--at",
+        "0.25",
+        "--json",
+        "--derivatives",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let d = v["derivatives"][0].as_array().unwrap();
+    let sum: f64 = d.iter().map(|x| x.as_f64().unwrap()).sum();
+    assert!(sum.abs() < 1e-12);
+}
+
+#[test]
+fn bad_input_is_one_line_on_stderr_and_non_zero() {
+    let cases: &[&[&str]] = &[
+        &[
+            "basis", "--degree", "2", "--knots", "0,1,0.5", "--at", "0.2",
+        ],
+        &[
+            "basis",
+            "--degree",
+            "2",
+            "--knots",
+            "0,0,0,1,1,1",
+            "--at",
+            "2",
+        ],
+        &[
+            "basis",
+            "--degree",
+            "2",
+            "--knots",
+            "0,0,0,1,1,1",
+            "--at",
+            "nan",
+        ],
+        &[
+            "basis", "--degree", "9", "--knots", "0,0,1,1", "--at", "0.5",
+        ],
+        &[
+            "basis", "--degree", "1", "--knots", "0,0,x,1", "--at", "0.5",
+        ],
+        &["basis", "--degree", "-1", "--knots", "0,1", "--at", "0.5"],
+        &[
+            "basis",
+            "--degree",
+            "1",
+            "--knots",
+            "0,0,0,0,1,1",
+            "--at",
+            "0.5",
+        ],
+        &["basis", "--degree", "1", "--knots", "", "--at", "0.5"],
+        &["table", "no-such-table"],
+        &["frobnicate"],
+    ];
+    for args in cases {
+        let (code, out, err) = hompm(args);
+        assert_ne!(code, 0, "{args:?} succeeded");
+        assert!(out.is_empty(), "{args:?} printed to stdout: {out}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    }
+}
+
+#[test]
+fn table_json_follows_the_schema() {
+    let (code, out, _) = hompm(&["table", "thesis-a1", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "id",
+        "title",
+        "seed",
+        "source",
+        "setup",
+        "row_labels",
+        "col_labels",
+        "published",
+        "computed",
+        "deviation",
+        "status",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert_eq!(v["status"][4][0], "reproduced");
+    let (code, out, _) = hompm(&["table", "--list"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("thesis-a1"));
+}
+
+#[test]
+fn reproduce_prints_the_summary_line() {
+    let (code, out, _) = hompm(&["reproduce", "--quick"]);
+    assert_eq!(code, 0);
+    assert!(out
+        .lines()
+        .any(|l| l.ends_with("published numbers reproduced")));
+}

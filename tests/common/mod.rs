@@ -1,0 +1,60 @@
+//! Shared proptest strategies.
+#![allow(dead_code)]
+
+use hompm::spline::KnotVector;
+use proptest::prelude::*;
+
+/// Open knot vectors on [0, L] with random degree 0..=max_degree, random
+/// interior breakpoints (spacing ≥ `min_gap`·L) and random interior
+/// multiplicities 1..=p+1.
+pub fn open_knots(max_degree: usize, min_gap: f64) -> impl Strategy<Value = KnotVector> {
+    (0..=max_degree, 0usize..=6, 0.5f64..4.0).prop_flat_map(move |(p, interior, length)| {
+        (
+            Just(p),
+            Just(length),
+            proptest::collection::vec(0.0f64..1.0, interior),
+            proptest::collection::vec(1usize..=p + 1, interior),
+        )
+            .prop_map(move |(p, length, raw, mult)| {
+                // Spread the breakpoints so that neighbours are ≥ min_gap apart.
+                let mut pts: Vec<f64> = raw.clone();
+                pts.sort_by(|a, b| a.partial_cmp(b).unwrap());
+                let k = pts.len() as f64;
+                let usable = 1.0 - (k + 1.0) * min_gap;
+                let pts: Vec<f64> = pts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| (min_gap * (i as f64 + 1.0) + usable * t) * length)
+                    .collect();
+                let mut knots = vec![0.0; p + 1];
+                for (t, m) in pts.iter().zip(&mult) {
+                    knots.extend(std::iter::repeat_n(*t, *m));
+                }
+                knots.extend(std::iter::repeat_n(length, p + 1));
+                KnotVector::new(knots, p).expect("strategy builds valid knots")
+            })
+    })
+}
+
+/// General (not necessarily open) non-decreasing knot vectors with degree 0..=5.
+pub fn general_knots() -> impl Strategy<Value = KnotVector> {
+    (0usize..=5).prop_flat_map(|p| {
+        proptest::collection::vec(0u8..12, (2 * p + 2)..(2 * p + 10)).prop_filter_map(
+            "valid knot vector",
+            move |mut ints| {
+                ints.sort();
+                let knots: Vec<f64> = ints.iter().map(|&i| i as f64 * 0.25).collect();
+                KnotVector::new(knots, p).ok()
+            },
+        )
+    })
+}
+
+/// Points spread over the domain, including both ends.
+pub fn sample_points(kv: &KnotVector, fractions: &[f64]) -> Vec<f64> {
+    let (a, b) = kv.domain();
+    let mut pts: Vec<f64> = fractions.iter().map(|f| a + f * (b - a)).collect();
+    pts.push(a);
+    pts.push(b);
+    pts
+}

@@ -1,0 +1,239 @@
+//! Property tests of the B-spline basis: book Eqs. (4.19)–(4.23), thesis §6.1.
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::{general_knots, open_knots, sample_points};
+use hompm::basis::Basis1d;
+use hompm::spline::bspline::{cox_de_boor, cox_de_boor_derivative};
+use hompm::spline::KnotVector;
+use proptest::prelude::*;
+
+fn fractions() -> impl Strategy<Value = Vec<f64>> {
+    proptest::collection::vec(0.0f64..=1.0, 1..8)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Book Eq. (4.21) and (4.22): Σ φ_i = 1 and φ_i ≥ 0 on the domain,
+    /// for the literal recursion and for the span evaluator.
+    #[test]
+    fn partition_of_unity_and_non_negativity(kv in general_knots(), f in fractions()) {
+        for x in sample_points(&kv, &f) {
+            let fast = kv.dense_values(x).unwrap();
+            let literal: Vec<f64> = (0..kv.num_basis())
+                .map(|i| cox_de_boor(&kv, i, kv.degree(), x).unwrap())
+                .collect();
+            prop_assert!((fast.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            prop_assert!((literal.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            prop_assert!(fast.iter().all(|&v| v >= -1e-15));
+            prop_assert!(literal.iter().all(|&v| v >= 0.0));
+        }
+    }
+
+    /// The span evaluator equals the literal Cox–de Boor recursion, values and
+    /// first derivatives (Eq. 4.23), on open knots with repeated interior knots.
+    #[test]
+    fn span_evaluator_matches_literal_recursion(kv in open_knots(6, 0.02), f in fractions()) {
+        let p = kv.degree();
+        for x in sample_points(&kv, &f) {
+            let local = kv.local_basis(x, 1).unwrap();
+            let values = local.dense(0, kv.num_basis());
+            let ders = local.dense(1, kv.num_basis());
+            for i in 0..kv.num_basis() {
+                let v = cox_de_boor(&kv, i, p, x).unwrap();
+                let d = cox_de_boor_derivative(&kv, i, p, x).unwrap();
+                prop_assert!((values[i] - v).abs() < 1e-12, "value {i} at {x}: {} vs {v}", values[i]);
+                prop_assert!((ders[i] - d).abs() < 1e-9 * (1.0 + d.abs()), "derivative {i} at {x}: {} vs {d}", ders[i]);
+            }
+        }
+    }
+
+    /// Property 2 of book §4.3: φ_{i,p} vanishes outside [ξ_i, ξ_{i+p+1}].
+    #[test]
+    fn compact_support(kv in general_knots(), f in fractions()) {
+        let t = kv.knots().to_vec();
+        let p = kv.degree();
+        for x in sample_points(&kv, &f) {
+            for i in 0..kv.num_basis() {
+                if x < t[i] || x > t[i + p + 1] {
+                    prop_assert_eq!(cox_de_boor(&kv, i, p, x).unwrap(), 0.0);
+                }
+            }
+            let local = kv.local_basis(x, 0).unwrap();
+            for j in 0..=p {
+                let i = local.first + j;
+                prop_assert!(t[i] <= x && x <= t[i + p + 1]);
+            }
+        }
+    }
+
+    /// Σ φ_i' = 0 (derivative of the partition of unity), and φ_i' matches a
+    /// central difference away from the knots.
+    #[test]
+    fn derivatives_sum_to_zero_and_match_finite_differences(kv in open_knots(6, 0.05), f in fractions()) {
+        let (a, b) = kv.domain();
+        let h = 1e-6 * (b - a);
+        for x in sample_points(&kv, &f) {
+            let d = kv.dense_derivatives(x).unwrap();
+            let scale = d.iter().map(|v| v.abs()).fold(1.0, f64::max);
+            prop_assert!(d.iter().sum::<f64>().abs() < 1e-10 * scale);
+            let near_knot = kv.knots().iter().any(|k| (x - k).abs() < 1e3 * h);
+            if near_knot { continue; }
+            let plus = kv.dense_values(x + h).unwrap();
+            let minus = kv.dense_values(x - h).unwrap();
+            for i in 0..kv.num_basis() {
+                let fd = (plus[i] - minus[i]) / (2.0 * h);
+                prop_assert!((fd - d[i]).abs() < 1e-5 * scale, "fd {fd} vs {}", d[i]);
+            }
+        }
+    }
+
+    /// Thesis §6.1 and Fig. 6.2: across an interior knot of multiplicity k ≤ p,
+    /// the basis is C^{p−k}: derivatives of order 0..=p−k have equal one-sided limits.
+    #[test]
+    fn continuity_across_repeated_knots(kv in open_knots(6, 0.05)) {
+        let p = kv.degree();
+        let (a, b) = kv.domain();
+        for (knot, k) in kv.breakpoints() {
+            if knot <= a || knot >= b || k > p { continue; }
+            let order = p - k;
+            // One-sided limits: the polynomial piece of the span ending at the
+            // knot, evaluated at the knot, against the span starting there.
+            let right_span = kv.find_span(knot).unwrap();
+            let left_span = (0..right_span).rev().find(|&s| kv.knots()[s] < kv.knots()[s + 1]).unwrap();
+            let left = kv.local_basis_on_span(left_span, knot, order).unwrap();
+            let right = kv.local_basis(knot, order).unwrap();
+            for j in 0..=order {
+                let l = left.dense(j, kv.num_basis());
+                let r = right.dense(j, kv.num_basis());
+                let scale = r.iter().chain(&l).map(|v| v.abs()).fold(1.0, f64::max);
+                for i in 0..kv.num_basis() {
+                    prop_assert!((l[i] - r[i]).abs() < 1e-9 * scale,
+                        "derivative {j} of φ_{i} jumps at knot {knot} (multiplicity {k}, p = {p}): {} vs {}", l[i], r[i]);
+                }
+            }
+            // …and no smoother: derivative p−k+1 jumps for some function.
+            let j = order + 1;
+            let l = kv.local_basis_on_span(left_span, knot, j).unwrap().dense(j, kv.num_basis());
+            let r = kv.local_basis(knot, j).unwrap().dense(j, kv.num_basis());
+            let scale = r.iter().chain(&l).map(|v| v.abs()).fold(1.0, f64::max);
+            prop_assert!(l.iter().zip(&r).any(|(u, v)| (u - v).abs() > 1e-6 * scale),
+                "derivative {j} is continuous at a knot of multiplicity {k}, p = {p}");
+        }
+    }
+
+    /// An open knot vector interpolates at both ends: φ_1(a) = 1, φ_n(b) = 1.
+    #[test]
+    fn open_knots_interpolate_at_both_ends(kv in open_knots(6, 0.02)) {
+        let (a, b) = kv.domain();
+        let n = kv.num_basis();
+        let left = kv.dense_values(a).unwrap();
+        let right = kv.dense_values(b).unwrap();
+        // Exactly 1 up to one rounding of a·(1/a) in the triangular scheme.
+        prop_assert!((left[0] - 1.0).abs() <= 4.0 * f64::EPSILON);
+        prop_assert!((right[n - 1] - 1.0).abs() <= 4.0 * f64::EPSILON);
+    }
+}
+
+/// Book Eq. (4.23) has a minus between its terms; the MLS paper's Eq. (3)
+/// prints a plus. Central differences decide for the minus
+/// (docs/conventions.md, "Sign of the derivative").
+#[test]
+fn derivative_sign_is_minus() {
+    let kv = KnotVector::new(vec![0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0], 2).unwrap();
+    let t = kv.knots();
+    let p = 2.0;
+    let (x, h) = (0.5, 1e-6);
+    for i in 0..kv.num_basis() {
+        let fd = (cox_de_boor(&kv, i, 2, x + h).unwrap() - cox_de_boor(&kv, i, 2, x - h).unwrap())
+            / (2.0 * h);
+        let a = if t[i + 2] > t[i] {
+            p / (t[i + 2] - t[i])
+        } else {
+            0.0
+        };
+        let b = if t[i + 3] > t[i + 1] {
+            p / (t[i + 3] - t[i + 1])
+        } else {
+            0.0
+        };
+        let lo = cox_de_boor(&kv, i, 1, x).unwrap();
+        let hi = cox_de_boor(&kv, i + 1, 1, x).unwrap();
+        let minus = a * lo - b * hi;
+        let plus = a * lo + b * hi;
+        assert_relative_eq!(minus, fd, epsilon = 1e-6);
+        if hi != 0.0 {
+            assert!(
+                (plus - fd).abs() > 0.1,
+                "the '+' form would also fit for φ_{i}"
+            );
+        }
+    }
+}
+
+/// Thesis §6.1: for p = 1 on an open uniform knot vector, the B-splines are the
+/// P1 hat functions of thesis §5.1.
+#[test]
+fn linear_bsplines_are_hat_functions() {
+    use hompm::lagrange::{LagrangeBasis, LagrangeOrder};
+    let kv = KnotVector::open_uniform(0.0, 2.0, 5, 1).unwrap();
+    let p1 = LagrangeBasis::new(0.0, 2.0, 5, LagrangeOrder::Linear).unwrap();
+    for k in 0..=40 {
+        let x = 2.0 * k as f64 / 40.0;
+        let a = kv.local(x, 1).unwrap();
+        let b = p1.local(x, 1).unwrap();
+        for (u, v) in a.dense(0, 6).iter().zip(b.dense(0, 6)) {
+            assert_relative_eq!(*u, v, epsilon = 1e-14);
+        }
+        for (u, v) in a.dense(1, 6).iter().zip(b.dense(1, 6)) {
+            assert_relative_eq!(*u, v, epsilon = 1e-12);
+        }
+    }
+}
+
+/// Validation: every malformed input is a typed error, never a panic.
+#[test]
+fn malformed_knot_vectors_are_rejected() {
+    use hompm::Error;
+    let bad = [
+        (vec![], 0),
+        (vec![0.0, 1.0, 0.5, 2.0], 1),
+        (vec![0.0, f64::NAN, 1.0], 0),
+        (vec![0.0, f64::INFINITY], 0),
+        (vec![0.0, 0.0, 1.0, 1.0], 3),
+        (vec![0.0, 0.0, 0.0, 0.0], 1),
+        (vec![0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0], 1),
+        (vec![0.0, 0.0, 0.0, 1.0, 1.0], 1),
+    ];
+    for (knots, p) in bad {
+        let r = KnotVector::new(knots.clone(), p);
+        assert!(r.is_err(), "{knots:?} with p = {p} was accepted");
+    }
+    assert!(matches!(
+        KnotVector::open_uniform(1.0, 1.0, 3, 2),
+        Err(Error::InvalidKnots(_))
+    ));
+    assert!(matches!(
+        KnotVector::open_uniform(0.0, 1.0, 0, 2),
+        Err(Error::InvalidArgument(_))
+    ));
+    let kv = KnotVector::open_uniform(0.0, 1.0, 4, 2).unwrap();
+    assert!(matches!(
+        kv.local_basis(1.5, 0),
+        Err(Error::OutsideDomain { .. })
+    ));
+    assert!(matches!(
+        kv.local_basis(f64::NAN, 0),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        cox_de_boor(&kv, 99, 2, 0.5),
+        Err(Error::InvalidArgument(_))
+    ));
+    assert!(matches!(
+        cox_de_boor(&kv, 0, 3, 0.5),
+        Err(Error::InvalidDegree(_))
+    ));
+}

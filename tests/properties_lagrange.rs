@@ -1,0 +1,112 @@
+//! Lagrange P1/P2 (thesis §5.1–5.2) and the 2D tensor basis (MLS paper Eqs. 4–5).
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::open_knots;
+use hompm::basis::Basis1d;
+use hompm::lagrange::{reference_shape_functions, LagrangeBasis, LagrangeOrder};
+use hompm::spline::{KnotVector, TensorBasis2d};
+use proptest::prelude::*;
+
+/// N̂_i(ξ_j) = δ_ij at the reference nodes (thesis §5.1 and §5.2).
+#[test]
+fn reference_shape_functions_are_nodal() {
+    for (order, nodes) in [
+        (LagrangeOrder::Linear, vec![0.0, 1.0]),
+        (LagrangeOrder::Quadratic, vec![0.0, 0.5, 1.0]),
+    ] {
+        for (j, &xi) in nodes.iter().enumerate() {
+            let n = reference_shape_functions(order, xi);
+            for (i, v) in n.iter().enumerate() {
+                assert_eq!(*v, if i == j { 1.0 } else { 0.0 });
+            }
+        }
+    }
+}
+
+/// Thesis §5.2: the P2 end-node functions are negative inside the element,
+/// with minimum −1/8 at ξ = 1/4 (and 3/4 for N̂_3).
+#[test]
+fn quadratic_end_functions_take_negative_values() {
+    let n = reference_shape_functions(LagrangeOrder::Quadratic, 0.75);
+    assert_relative_eq!(n[0], -0.125, epsilon = 1e-15);
+    let n = reference_shape_functions(LagrangeOrder::Quadratic, 0.25);
+    assert_relative_eq!(n[2], -0.125, epsilon = 1e-15);
+    let min = (0..=1000)
+        .map(|k| reference_shape_functions(LagrangeOrder::Quadratic, k as f64 / 1000.0)[0])
+        .fold(f64::INFINITY, f64::min);
+    assert_relative_eq!(min, -0.125, epsilon = 1e-15);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Partition of unity, zero-sum gradients and finite-difference gradients
+    /// for P1 and P2 meshes (thesis §5.1–5.2).
+    #[test]
+    fn lagrange_partition_of_unity_and_gradients(elements in 1usize..20, quadratic in any::<bool>(),
+                                                 a in -3.0f64..3.0, len in 0.5f64..5.0, t in 0.0f64..=1.0) {
+        let order = if quadratic { LagrangeOrder::Quadratic } else { LagrangeOrder::Linear };
+        let basis = LagrangeBasis::new(a, a + len, elements, order).unwrap();
+        let x = a + t * len;
+        let loc = basis.local(x, 1).unwrap();
+        prop_assert!((loc.values().iter().sum::<f64>() - 1.0).abs() < 1e-13);
+        let gscale = loc.gradients().iter().map(|g| g.abs()).fold(1.0, f64::max);
+        prop_assert!(loc.gradients().iter().sum::<f64>().abs() < 1e-12 * gscale);
+        let h = 1e-7 * len;
+        let k = basis.element_of(x).unwrap();
+        let (lo, hi) = basis.cells()[k];
+        if x - h > lo && x + h < hi {
+            let up = basis.local(x + h, 0).unwrap();
+            let dn = basis.local(x - h, 0).unwrap();
+            for j in 0..loc.values().len() {
+                let fd = (up.values()[j] - dn.values()[j]) / (2.0 * h);
+                prop_assert!((fd - loc.gradients()[j]).abs() < 1e-5 * gscale);
+            }
+        }
+    }
+
+    /// MLS paper Eqs. (4)–(5): the 2D function is the product of the 1D ones,
+    /// its gradient is (N'_i N_j, N_i N'_j), and the 2D basis is a partition of unity.
+    #[test]
+    fn tensor_basis_is_product_with_product_gradient(kx in open_knots(4, 0.05), ky in open_knots(4, 0.05),
+                                                     s in 0.0f64..=1.0, t in 0.0f64..=1.0) {
+        let (ax, bx) = kx.domain();
+        let (ay, by) = ky.domain();
+        let (x, y) = (ax + s * (bx - ax), ay + t * (by - ay));
+        let basis = TensorBasis2d::new(kx.clone(), ky.clone());
+        let loc = basis.local_basis(x, y).unwrap();
+        prop_assert!((loc.values.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        let gx: f64 = loc.gradients.iter().map(|g| g[0]).sum();
+        let gy: f64 = loc.gradients.iter().map(|g| g[1]).sum();
+        prop_assert!(gx.abs() < 1e-9 && gy.abs() < 1e-9);
+        let vx = kx.dense_values(x).unwrap();
+        let vy = ky.dense_values(y).unwrap();
+        let dx = kx.dense_derivatives(x).unwrap();
+        let dy = ky.dense_derivatives(y).unwrap();
+        let nx = kx.num_basis();
+        for (k, &idx) in loc.indices.iter().enumerate() {
+            let (i, j) = (idx % nx, idx / nx);
+            prop_assert!((loc.values[k] - vx[i] * vy[j]).abs() < 1e-14);
+            prop_assert!((loc.gradients[k][0] - dx[i] * vy[j]).abs() < 1e-10 * (1.0 + dx[i].abs()));
+            prop_assert!((loc.gradients[k][1] - vx[i] * dy[j]).abs() < 1e-10 * (1.0 + dy[j].abs()));
+        }
+    }
+}
+
+#[test]
+fn lagrange_rejects_bad_input() {
+    assert!(LagrangeBasis::new(0.0, 0.0, 3, LagrangeOrder::Linear).is_err());
+    assert!(LagrangeBasis::new(0.0, 1.0, 0, LagrangeOrder::Linear).is_err());
+    let b = LagrangeBasis::new(0.0, 1.0, 3, LagrangeOrder::Quadratic).unwrap();
+    assert!(b.local(1.01, 0).is_err());
+    assert!(b.local(f64::NAN, 0).is_err());
+    assert_eq!(b.num_basis(), 7);
+    assert_eq!(
+        KnotVector::open_uniform(0.0, 1.0, 3, 2)
+            .unwrap()
+            .num_basis(),
+        5
+    );
+}
