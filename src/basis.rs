@@ -48,6 +48,9 @@ impl LocalBasis {
 pub trait Basis1d {
     /// Number of basis functions (degrees of freedom).
     fn num_basis(&self) -> usize;
+    /// Polynomial degree on each cell (so that p+1 Gauss points integrate
+    /// φ_i φ_j exactly).
+    fn degree(&self) -> usize;
     /// The closed domain [a, b] on which the functions form a partition of unity.
     fn domain(&self) -> (f64, f64);
     /// Values and derivatives up to `order` of the non-zero functions at `x`.

@@ -129,6 +129,9 @@ impl Basis1d for LagrangeBasis {
     fn num_basis(&self) -> usize {
         self.order.degree() * self.elements + 1
     }
+    fn degree(&self) -> usize {
+        self.order.degree()
+    }
     fn domain(&self) -> (f64, f64) {
         (self.a, self.b)
     }

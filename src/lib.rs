@@ -16,7 +16,9 @@
 //! | 1 | [`spline`] | knot vectors, Cox–de Boor (book Eqs. 4.19–4.23), 2D tensor basis |
 //! | 1 | [`lagrange`] | P1 and P2 Lagrange shape functions (thesis §5.1–5.2) |
 //! | 1 | [`quadrature`] | Gauss–Legendre rules; the thesis' half-span rule (§7.2) |
-//! | 2 | [`mass`] | consistent and lumped mass matrices, assembly (thesis A.1–A.2) |
+//! | 2 | [`sparse`] | CSR storage for banded and Kronecker mass matrices |
+//! | 2 | [`mass`] | consistent and lumped mass, Kronecker 2D operators (book Eqs. 4.2–4.4, thesis A.1–A.2) |
+//! | 3 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
 //! | 6 | [`tables`] | the registry of published tables and their computations |
 //!
 //! Later layers (solvers, reconstruction, the MPM step, scenes, the report)
@@ -27,6 +29,8 @@ pub mod error;
 pub mod lagrange;
 pub mod mass;
 pub mod quadrature;
+pub mod solve;
+pub mod sparse;
 pub mod spline;
 pub mod tables;
 

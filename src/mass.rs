@@ -56,3 +56,216 @@ pub fn assemble(
 pub fn row_sum_lumping(matrix: &DMatrix<f64>) -> Vec<f64> {
     matrix.row_iter().map(|r| r.sum()).collect()
 }
+
+use crate::basis::Basis1d;
+use crate::error::finite;
+use crate::quadrature::GaussLegendre;
+use crate::sparse::SparseMatrix;
+
+/// Row sums of a sparse mass matrix: book Eq. (4.3), M_ii = Σ_j M^C_ij.
+pub fn lumped_by_row_sum(consistent: &SparseMatrix) -> Vec<f64> {
+    consistent.row_sums()
+}
+
+/// The consistent mass matrix M^C_ij = ∫ ρ φ_i φ_j dΩ, book Eqs. (4.2) and
+/// (4.58), by Gauss quadrature with `points_per_cell` points on every cell
+/// (p+1 points are exact for a polynomial ρ of degree ≤ 1… and for constant ρ).
+pub fn consistent_mass(
+    basis: &dyn Basis1d,
+    density: &dyn Fn(f64) -> f64,
+    points_per_cell: usize,
+) -> Result<SparseMatrix> {
+    let n = basis.num_basis();
+    let rule = GaussLegendre::new(points_per_cell)?;
+    let mut t = Vec::new();
+    for (a, b) in basis.cells() {
+        for q in rule.on_interval(a, b) {
+            let rho = finite("density", density(q.x))?;
+            let loc = basis.local(q.x, 0)?;
+            let v = loc.values();
+            for (ja, &va) in v.iter().enumerate() {
+                for (jb, &vb) in v.iter().enumerate() {
+                    t.push((loc.first + ja, loc.first + jb, q.weight * rho * va * vb));
+                }
+            }
+        }
+    }
+    SparseMatrix::from_triplets(n, n, &t)
+}
+
+/// Consistent mass with constant density ρ and the exact rule (p+1 points).
+pub fn consistent_mass_constant(basis: &dyn Basis1d, rho: f64) -> Result<SparseMatrix> {
+    finite("density", rho)?;
+    consistent_mass(basis, &|_| rho, basis.degree() + 1)
+}
+
+/// The mixed mass matrix P_ij = ∫ φ_i^{fine} φ_j^{coarse} dΩ (book §4.7; the
+/// p-multigrid transfer of Tielen et al. [235]). Both bases must share their
+/// cells; `points_per_cell` must integrate degree p_fine + p_coarse exactly.
+pub fn mixed_mass(
+    fine: &dyn Basis1d,
+    coarse: &dyn Basis1d,
+    points_per_cell: usize,
+) -> Result<SparseMatrix> {
+    let rule = GaussLegendre::new(points_per_cell)?;
+    let mut t = Vec::new();
+    for (a, b) in fine.cells() {
+        for q in rule.on_interval(a, b) {
+            let lf = fine.local(q.x, 0)?;
+            let lc = coarse.local(q.x, 0)?;
+            for (ja, &va) in lf.values().iter().enumerate() {
+                for (jb, &vb) in lc.values().iter().enumerate() {
+                    t.push((lf.first + ja, lc.first + jb, q.weight * va * vb));
+                }
+            }
+        }
+    }
+    SparseMatrix::from_triplets(fine.num_basis(), coarse.num_basis(), &t)
+}
+
+/// Variational lumping, book Eq. (4.4) and thesis A.2 ("direct lumping"):
+/// m_i = ∫ ρ φ_i dΩ, by Gauss quadrature with `points_per_cell` points.
+pub fn lumped_variational(
+    basis: &dyn Basis1d,
+    density: &dyn Fn(f64) -> f64,
+    points_per_cell: usize,
+) -> Result<Vec<f64>> {
+    let rule = GaussLegendre::new(points_per_cell)?;
+    let mut m = vec![0.0; basis.num_basis()];
+    for (a, b) in basis.cells() {
+        for q in rule.on_interval(a, b) {
+            let rho = finite("density", density(q.x))?;
+            let loc = basis.local(q.x, 0)?;
+            for (j, &v) in loc.values().iter().enumerate() {
+                m[loc.first + j] += q.weight * rho * v;
+            }
+        }
+    }
+    Ok(m)
+}
+
+fn check_particles(positions: &[f64], masses: &[f64]) -> Result<()> {
+    if positions.len() != masses.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} positions but {} masses",
+            positions.len(),
+            masses.len()
+        )));
+    }
+    for (k, (&x, &m)) in positions.iter().zip(masses).enumerate() {
+        finite(&format!("position of particle {k}"), x)?;
+        finite(&format!("mass of particle {k}"), m)?;
+    }
+    Ok(())
+}
+
+/// The consistent mass matrix with the material points as quadrature points,
+/// thesis §3.1: M_ij ≈ Σ_p m_p φ_i(x_p) φ_j(x_p).
+pub fn material_point_mass(
+    basis: &dyn Basis1d,
+    positions: &[f64],
+    masses: &[f64],
+) -> Result<SparseMatrix> {
+    check_particles(positions, masses)?;
+    let n = basis.num_basis();
+    let mut t = Vec::new();
+    for (&x, &m) in positions.iter().zip(masses) {
+        let loc = basis.local(x, 0)?;
+        let v = loc.values();
+        for (ja, &va) in v.iter().enumerate() {
+            for (jb, &vb) in v.iter().enumerate() {
+                t.push((loc.first + ja, loc.first + jb, m * va * vb));
+            }
+        }
+    }
+    SparseMatrix::from_triplets(n, n, &t)
+}
+
+/// The lumped mass from material points, book Eq. (4.5) / (4.7):
+/// m_i = Σ_p m_p φ_i(x_p).
+pub fn material_point_lumped_mass(
+    basis: &dyn Basis1d,
+    positions: &[f64],
+    masses: &[f64],
+) -> Result<Vec<f64>> {
+    check_particles(positions, masses)?;
+    let mut out = vec![0.0; basis.num_basis()];
+    for (&x, &m) in positions.iter().zip(masses) {
+        let loc = basis.local(x, 0)?;
+        for (j, &v) in loc.values().iter().enumerate() {
+            out[loc.first + j] += m * v;
+        }
+    }
+    Ok(out)
+}
+
+/// The indices that remain after homogeneous Dirichlet conditions remove the
+/// first and last function (book §4.6 tables; open knots interpolate there).
+pub fn interior_indices(n: usize) -> Vec<usize> {
+    (1..n.saturating_sub(1)).collect()
+}
+
+/// Removes the first and last row and column.
+pub fn with_dirichlet(m: &SparseMatrix) -> SparseMatrix {
+    let rows = interior_indices(m.rows());
+    let cols = interior_indices(m.cols());
+    m.submatrix(&rows, &cols)
+}
+
+/// A 2D operator with Kronecker structure, `y ⊗ x` (x index fastest, as in
+/// `spline::tensor`): the tensor-product mass matrix M_2D = M_y ⊗ M_x is
+/// never assembled for products, (M_y ⊗ M_x) vec(X) = vec(M_x X M_yᵀ).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Kronecker2d {
+    /// Factor acting along x (rows vary fastest).
+    pub x: SparseMatrix,
+    /// Factor acting along y.
+    pub y: SparseMatrix,
+}
+
+impl Kronecker2d {
+    /// Pairs two factors.
+    pub fn new(x: SparseMatrix, y: SparseMatrix) -> Self {
+        Self { x, y }
+    }
+
+    /// Rows of the 2D operator.
+    pub fn rows(&self) -> usize {
+        self.x.rows() * self.y.rows()
+    }
+
+    /// Columns of the 2D operator.
+    pub fn cols(&self) -> usize {
+        self.x.cols() * self.y.cols()
+    }
+
+    /// out = (Y ⊗ X) v = vec(X V Yᵀ), where V is the x.cols × y.cols matrix
+    /// stored column-major in `v`.
+    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        let (mx, nx) = (self.x.rows(), self.x.cols());
+        let (my, ny) = (self.y.rows(), self.y.cols());
+        // T = X V: apply X to each of the ny columns of V.
+        let mut t = vec![0.0; mx * ny];
+        for j in 0..ny {
+            self.x
+                .mul_vec(&v[j * nx..(j + 1) * nx], &mut t[j * mx..(j + 1) * mx]);
+        }
+        // out = T Yᵀ: row i of out = Y · (row i of T).
+        let mut row = vec![0.0; ny];
+        let mut res = vec![0.0; my];
+        for i in 0..mx {
+            for j in 0..ny {
+                row[j] = t[j * mx + i];
+            }
+            self.y.mul_vec(&row, &mut res);
+            for (jj, r) in res.iter().enumerate() {
+                out[jj * mx + i] = *r;
+            }
+        }
+    }
+
+    /// The assembled 2D matrix (sparse), for Gauss–Seidel and for checks.
+    pub fn assemble(&self) -> SparseMatrix {
+        SparseMatrix::kron(&self.y, &self.x)
+    }
+}

@@ -142,3 +142,43 @@ fn reproduce_prints_the_summary_line() {
         .lines()
         .any(|l| l.ends_with("published numbers reproduced")));
 }
+
+#[test]
+fn mass_json_has_the_documented_keys() {
+    let (code, out, err) = hompm(&[
+        "mass",
+        "--degree",
+        "3",
+        "--spans",
+        "8",
+        "--dim",
+        "2",
+        "--dirichlet",
+        "--condition",
+        "--solve",
+        "pmg",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "size",
+        "lambda_min",
+        "lambda_max",
+        "condition_number",
+        "iterations",
+        "residuals",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["size"], 81);
+    assert_eq!(v["iterations"], 15, "book Table 4.4, p = 3, 1/h = 8");
+    let kappa = v["condition_number"].as_f64().unwrap();
+    assert!(
+        (kappa - 440.0).abs() < 0.01 * 440.0,
+        "book Table 4.2: {kappa}"
+    );
+    let (code, _, err) = hompm(&["mass", "--degree", "2", "--spans", "4", "--solve", "nope"]);
+    assert_ne!(code, 0);
+    assert_eq!(err.trim_end().lines().count(), 1);
+}

@@ -43,6 +43,34 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Mass matrix of degree p on N uniform spans of [0,1] (ρ = 1): size, spectrum and a
+    /// solve of M a = M·(−9.81·1). Book Eqs. (4.2), (4.53)–(4.62); thesis §7.2.
+    Mass {
+        /// Polynomial degree p.
+        #[arg(long)]
+        degree: usize,
+        /// Number of knot spans per direction.
+        #[arg(long)]
+        spans: usize,
+        /// Dimension: 1, or 2 for the tensor-product matrix.
+        #[arg(long, default_value_t = 1)]
+        dim: usize,
+        /// Remove the first and last function per direction.
+        #[arg(long)]
+        dirichlet: bool,
+        /// Compute λ_min, λ_max and κ.
+        #[arg(long)]
+        condition: bool,
+        /// Solve with cg, pmg, richardson or direct.
+        #[arg(long)]
+        solve: Option<String>,
+        /// Relative tolerance of the iterative solvers.
+        #[arg(long, default_value_t = 1e-8)]
+        tol: f64,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Published and computed values of one table, with deviation and status.
     Table {
         /// Table id (see --list).
@@ -138,6 +166,132 @@ fn basis(degree: usize, knots: &str, at: &str, derivatives: bool, json: bool) ->
     Ok(s)
 }
 
+struct MassArgs {
+    degree: usize,
+    spans: usize,
+    dim: usize,
+    dirichlet: bool,
+    condition: bool,
+    solve: Option<String>,
+    tol: f64,
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct MassJson {
+    size: usize,
+    lambda_min: Option<f64>,
+    lambda_max: Option<f64>,
+    condition_number: Option<f64>,
+    solver: Option<String>,
+    iterations: Option<usize>,
+    residuals: Option<Vec<f64>>,
+}
+
+fn mass(args: MassArgs) -> Result<String> {
+    use hompm::solve::{cg, direct, pmultigrid, richardson, spectrum};
+    use hompm::tables::book::{gravity_rhs, unit_mass_1d, unit_mass_2d};
+    if args.dim != 1 && args.dim != 2 {
+        return Err(Error::InvalidArgument(format!(
+            "--dim must be 1 or 2, got {}",
+            args.dim
+        )));
+    }
+    if args.spans == 0 {
+        return Err(Error::InvalidArgument("--spans must be at least 1".into()));
+    }
+    let k = unit_mass_2d(args.spans, args.degree, args.dirichlet)?;
+    let m1 = unit_mass_1d(args.spans, args.degree, args.dirichlet)?;
+    if m1.rows() == 0 {
+        return Err(Error::InvalidArgument(
+            "no degrees of freedom remain".into(),
+        ));
+    }
+    let matrix = if args.dim == 1 {
+        m1.clone()
+    } else {
+        k.assemble()
+    };
+    let mut doc = MassJson {
+        size: matrix.rows(),
+        lambda_min: None,
+        lambda_max: None,
+        condition_number: None,
+        solver: args.solve.clone(),
+        iterations: None,
+        residuals: None,
+    };
+    if args.condition {
+        let s = if args.dim == 1 {
+            spectrum::spectrum_1d(&m1)?
+        } else {
+            spectrum::spectrum_kronecker(&k)?
+        };
+        doc.lambda_min = Some(s.lambda_min);
+        doc.lambda_max = Some(s.lambda_max);
+        doc.condition_number = Some(s.condition_number());
+    }
+    if let Some(method) = &args.solve {
+        let f = gravity_rhs(&matrix);
+        let result = match method.as_str() {
+            "cg" => {
+                cg::conjugate_gradient(&matrix, &f, args.tol, 100_000, cg::CgVariant::Recursive)?
+            }
+            "pmg" => {
+                let mg = pmultigrid::PMultigrid::unit_mass(
+                    args.spans,
+                    args.degree,
+                    args.dim,
+                    args.dirichlet,
+                    pmultigrid::PMultigridOptions::default(),
+                )?;
+                mg.solve(&f, args.tol, 10_000)?
+            }
+            "richardson" => {
+                let ml = matrix.row_sums();
+                richardson::richardson(&matrix, &ml, &f, args.tol, 1_000_000)?
+            }
+            "direct" => {
+                let x = direct::cholesky_solve(&matrix, &f)?;
+                let mut ax = vec![0.0; x.len()];
+                matrix.mul_vec(&x, &mut ax);
+                let r =
+                    hompm::solve::norm(&f.iter().zip(&ax).map(|(a, b)| a - b).collect::<Vec<_>>());
+                hompm::solve::IterativeResult {
+                    solution: x,
+                    iterations: 0,
+                    residuals: vec![r / hompm::solve::norm(&f)],
+                }
+            }
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                    "--solve must be cg, pmg, richardson or direct, got '{other}'"
+                )))
+            }
+        };
+        doc.iterations = (method != "direct").then_some(result.iterations);
+        doc.residuals = Some(result.residuals);
+    }
+    if args.json {
+        return to_json(&doc);
+    }
+    let mut s = format!("size {}\n", doc.size);
+    if let (Some(a), Some(b), Some(c)) = (doc.lambda_min, doc.lambda_max, doc.condition_number) {
+        s.push_str(&format!(
+            "lambda_min {a:.6e}\nlambda_max {b:.6e}\ncondition number {c:.6e}\n"
+        ));
+    }
+    if let Some(r) = &doc.residuals {
+        s.push_str(&format!(
+            "{}: {} iterations, final relative residual {:.3e}\n",
+            doc.solver.clone().unwrap_or_default(),
+            doc.iterations.map_or("-".into(), |i| i.to_string()),
+            r.last().copied().unwrap_or(f64::NAN)
+        ));
+    }
+    Ok(s)
+}
+
 fn table(id: Option<String>, list: bool, json: bool) -> Result<String> {
     if list || id.is_none() {
         let mut s = String::new();
@@ -211,6 +365,25 @@ fn main() -> ExitCode {
             json,
         } => basis(degree, &knots, &at, derivatives, json),
         Command::Table { id, list, json } => table(id, list, json),
+        Command::Mass {
+            degree,
+            spans,
+            dim,
+            dirichlet,
+            condition,
+            solve,
+            tol,
+            json,
+        } => mass(MassArgs {
+            degree,
+            spans,
+            dim,
+            dirichlet,
+            condition,
+            solve,
+            tol,
+            json,
+        }),
         Command::Reproduce { only, quick } => reproduce(only, quick),
     };
     match result {

@@ -212,6 +212,9 @@ impl Basis1d for KnotVector {
     fn num_basis(&self) -> usize {
         KnotVector::num_basis(self)
     }
+    fn degree(&self) -> usize {
+        KnotVector::degree(self)
+    }
     fn domain(&self) -> (f64, f64) {
         KnotVector::domain(self)
     }

@@ -1,0 +1,129 @@
+//! # Conjugate gradients
+//!
+//! Book §4.6: CG for the SPD system M^C a = f from the zero initial guess,
+//! stopped by Eq. (4.53), ‖r_k‖₂/‖r_0‖₂ < ε. The error obeys Eq. (4.57),
+//! ‖a − a_k‖_M ≤ 2((√κ − 1)/(√κ + 1))^k ‖a − a_0‖_M, in the energy norm.
+//!
+//! Three variants that are identical in exact arithmetic are offered, because
+//! book Table 4.3's counts depend on rounding (docs/reproduction.md):
+//! [`CgVariant::Recursive`] (Hestenes–Stiefel, residual updated r ← r − αAp),
+//! [`CgVariant::TrueResidual`] (r = b − A x recomputed each step) and
+//! [`CgVariant::PolakRibiere`] (β = r_{k+1}ᵀ(r_{k+1} − r_k)/r_kᵀr_k).
+
+use super::{check_rhs, dot, norm, IterativeResult, LinearOperator};
+use crate::error::{Error, Result};
+
+/// Which algebraically-equivalent CG recurrence to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CgVariant {
+    /// Recursive residual, Fletcher–Reeves β (the textbook method).
+    Recursive,
+    /// The residual recomputed as b − A x at every iteration.
+    TrueResidual,
+    /// Recursive residual with the Polak–Ribière β.
+    PolakRibiere,
+}
+
+/// Plain CG from x₀ = 0 until ‖r_k‖/‖r_0‖ < `tol` (book Eq. 4.53). Returns
+/// `Error::NotConverged` after `max_iter` iterations, `Error::Singular` if a
+/// search direction has non-positive curvature (A not SPD).
+pub fn conjugate_gradient(
+    op: &dyn LinearOperator,
+    b: &[f64],
+    tol: f64,
+    max_iter: usize,
+    variant: CgVariant,
+) -> Result<IterativeResult> {
+    conjugate_gradient_observed(op, b, tol, max_iter, variant, &mut |_, _| {})
+}
+
+/// [`conjugate_gradient`] that also hands every iterate x_k (k = 0, 1, …) to
+/// `observe` — used to test the error bound of book Eq. (4.57).
+pub fn conjugate_gradient_observed(
+    op: &dyn LinearOperator,
+    b: &[f64],
+    tol: f64,
+    max_iter: usize,
+    variant: CgVariant,
+    observe: &mut dyn FnMut(usize, &[f64]),
+) -> Result<IterativeResult> {
+    let n = op.size();
+    check_rhs(n, b, tol)?;
+    let mut x = vec![0.0; n];
+    let mut r = b.to_vec();
+    let r0 = norm(&r);
+    let mut residuals = vec![1.0];
+    observe(0, &x);
+    if r0 == 0.0 {
+        return Ok(IterativeResult {
+            solution: x,
+            iterations: 0,
+            residuals: vec![0.0],
+        });
+    }
+    let mut p = r.clone();
+    let mut ap = vec![0.0; n];
+    let mut rr = dot(&r, &r);
+    for k in 1..=max_iter {
+        op.apply(&p, &mut ap);
+        let pap = dot(&p, &ap);
+        if pap.is_nan() || pap <= 0.0 {
+            return Err(Error::Singular(format!(
+                "CG met a direction with pᵀAp = {pap:e} at iteration {k}: the matrix is not SPD"
+            )));
+        }
+        let alpha = rr / pap;
+        for i in 0..n {
+            x[i] += alpha * p[i];
+        }
+        let r_old = if variant == CgVariant::PolakRibiere {
+            Some(r.clone())
+        } else {
+            None
+        };
+        match variant {
+            CgVariant::TrueResidual => {
+                op.apply(&x, &mut ap);
+                for i in 0..n {
+                    r[i] = b[i] - ap[i];
+                }
+            }
+            _ => {
+                for i in 0..n {
+                    r[i] -= alpha * ap[i];
+                }
+            }
+        }
+        observe(k, &x);
+        let rr_new = dot(&r, &r);
+        let rel = rr_new.sqrt() / r0;
+        residuals.push(rel);
+        if !rel.is_finite() {
+            return Err(Error::BlowUp(format!(
+                "CG residual became {rel} at iteration {k}"
+            )));
+        }
+        if rel < tol {
+            return Ok(IterativeResult {
+                solution: x,
+                iterations: k,
+                residuals,
+            });
+        }
+        let beta = match r_old {
+            Some(ro) => {
+                let num: f64 = r.iter().zip(&ro).map(|(a, b)| a * (a - b)).sum();
+                num / rr
+            }
+            None => rr_new / rr,
+        };
+        for i in 0..n {
+            p[i] = r[i] + beta * p[i];
+        }
+        rr = rr_new;
+    }
+    Err(Error::NotConverged(format!(
+        "CG reached {max_iter} iterations with relative residual {:e} (tolerance {tol:e})",
+        residuals.last().copied().unwrap_or(f64::NAN)
+    )))
+}

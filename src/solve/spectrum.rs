@@ -1,0 +1,72 @@
+//! # Eigenvalues and condition numbers
+//!
+//! Book Eqs. (4.54)–(4.56): for an SPD matrix κ(M) = λ_max/λ_min. In 1D the
+//! eigenvalues come from faer's self-adjoint eigen solver on the (small) dense
+//! matrix; in 2D the Kronecker identity λ(A⊗B) = {λ_i(A) λ_j(B)} gives
+//! λ_min = λ_min(A)λ_min(B), λ_max = λ_max(A)λ_max(B) and κ(A⊗B) = κ(A)κ(B),
+//! so no 2D matrix is ever formed.
+
+use crate::error::{Error, Result};
+use crate::mass::Kronecker2d;
+use crate::sparse::SparseMatrix;
+
+/// Extreme eigenvalues (λ_min, λ_max) and κ = λ_max/λ_min of an SPD matrix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spectrum {
+    /// Smallest eigenvalue.
+    pub lambda_min: f64,
+    /// Largest eigenvalue.
+    pub lambda_max: f64,
+}
+
+impl Spectrum {
+    /// κ = λ_max/λ_min, book Eq. (4.56).
+    pub fn condition_number(&self) -> f64 {
+        self.lambda_max / self.lambda_min
+    }
+}
+
+/// All eigenvalues of a symmetric matrix, ascending (faer).
+pub fn symmetric_eigenvalues(m: &SparseMatrix) -> Result<Vec<f64>> {
+    if m.rows() != m.cols() || m.rows() == 0 {
+        return Err(Error::InvalidArgument(format!(
+            "eigenvalues need a non-empty square matrix, got {}×{}",
+            m.rows(),
+            m.cols()
+        )));
+    }
+    let n = m.rows();
+    let dense = faer::Mat::<f64>::from_fn(n, n, |i, j| m.get(i, j));
+    let ev = dense
+        .self_adjoint_eigenvalues(faer::Side::Lower)
+        .map_err(|e| Error::NotConverged(format!("eigenvalue solver: {e:?}")))?;
+    let mut v: Vec<f64> = ev.to_vec();
+    v.sort_by(|a, b| a.total_cmp(b));
+    Ok(v)
+}
+
+/// λ_min, λ_max of an SPD matrix; `Error::Singular` if λ_min ≤ 0.
+pub fn spectrum_1d(m: &SparseMatrix) -> Result<Spectrum> {
+    let ev = symmetric_eigenvalues(m)?;
+    let s = Spectrum {
+        lambda_min: ev[0],
+        lambda_max: ev[ev.len() - 1],
+    };
+    if s.lambda_min.is_nan() || s.lambda_min <= 0.0 {
+        return Err(Error::Singular(format!(
+            "the matrix is not positive definite: λ_min = {:e}",
+            s.lambda_min
+        )));
+    }
+    Ok(s)
+}
+
+/// λ_min, λ_max of M_y ⊗ M_x from the factors' spectra (no 2D matrix).
+pub fn spectrum_kronecker(k: &Kronecker2d) -> Result<Spectrum> {
+    let sx = spectrum_1d(&k.x)?;
+    let sy = spectrum_1d(&k.y)?;
+    Ok(Spectrum {
+        lambda_min: sx.lambda_min * sy.lambda_min,
+        lambda_max: sx.lambda_max * sy.lambda_max,
+    })
+}

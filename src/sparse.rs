@@ -1,0 +1,223 @@
+//! # Compressed sparse row matrices
+//!
+//! The storage of every mass matrix in hompm. 1D B-spline mass matrices are
+//! banded (half-bandwidth p) and 2D ones have (2p+1)² entries per row, so
+//! O(n) storage and O(n) products. Gauss–Seidel (book §4.7) needs ordered
+//! access to the rows of the matrix while it overwrites the iterate, which is
+//! why hompm keeps this small CSR type; factorisations and eigenvalues are
+//! delegated to faer ([`SparseMatrix::to_faer`], [`SparseMatrix::to_dense`]).
+
+use crate::error::{Error, Result};
+
+/// A real matrix in compressed sparse row form. Rows hold their column
+/// indices in ascending order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseMatrix {
+    rows: usize,
+    cols: usize,
+    row_ptr: Vec<usize>,
+    col_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SparseMatrix {
+    /// Builds from (row, col, value) triplets; duplicates are summed, exact
+    /// zeros kept (they are structural). Errors on an index out of range or a
+    /// non-finite value.
+    pub fn from_triplets(
+        rows: usize,
+        cols: usize,
+        triplets: &[(usize, usize, f64)],
+    ) -> Result<Self> {
+        let mut t: Vec<(usize, usize, f64)> = Vec::with_capacity(triplets.len());
+        for &(i, j, v) in triplets {
+            if i >= rows || j >= cols {
+                return Err(Error::InvalidArgument(format!(
+                    "entry ({i}, {j}) outside a {rows}×{cols} matrix"
+                )));
+            }
+            if !v.is_finite() {
+                return Err(Error::NonFinite {
+                    what: format!("matrix entry ({i}, {j})"),
+                    value: v,
+                });
+            }
+            t.push((i, j, v));
+        }
+        t.sort_by_key(|a| (a.0, a.1));
+        let mut row_ptr = vec![0; rows + 1];
+        let mut col_idx = Vec::with_capacity(t.len());
+        let mut values: Vec<f64> = Vec::with_capacity(t.len());
+        let mut last: Option<(usize, usize)> = None;
+        for (i, j, v) in t {
+            if last == Some((i, j)) {
+                *values.last_mut().expect("a previous entry exists") += v;
+            } else {
+                col_idx.push(j);
+                values.push(v);
+                row_ptr[i + 1] += 1;
+                last = Some((i, j));
+            }
+        }
+        for i in 0..rows {
+            row_ptr[i + 1] += row_ptr[i];
+        }
+        Ok(Self {
+            rows,
+            cols,
+            row_ptr,
+            col_idx,
+            values,
+        })
+    }
+
+    /// The n×n diagonal matrix with the given diagonal.
+    pub fn diagonal_matrix(diag: &[f64]) -> Result<Self> {
+        let t: Vec<_> = diag.iter().enumerate().map(|(i, &v)| (i, i, v)).collect();
+        Self::from_triplets(diag.len(), diag.len(), &t)
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Number of columns.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Column indices and values of row i.
+    pub fn row(&self, i: usize) -> (&[usize], &[f64]) {
+        let r = self.row_ptr[i]..self.row_ptr[i + 1];
+        (&self.col_idx[r.clone()], &self.values[r])
+    }
+
+    /// Entry (i, j), zero if not stored.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (c, v) = self.row(i);
+        c.binary_search(&j).map(|k| v[k]).unwrap_or(0.0)
+    }
+
+    /// The diagonal.
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.rows.min(self.cols))
+            .map(|i| self.get(i, i))
+            .collect()
+    }
+
+    /// Row sums Σ_j A_ij.
+    pub fn row_sums(&self) -> Vec<f64> {
+        (0..self.rows).map(|i| self.row(i).1.iter().sum()).collect()
+    }
+
+    /// y = A x.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        for (i, yi) in y.iter_mut().enumerate().take(self.rows) {
+            let (c, v) = self.row(i);
+            *yi = c.iter().zip(v).map(|(&j, &a)| a * x[j]).sum();
+        }
+    }
+
+    /// y = Aᵀ x.
+    pub fn mul_transpose_vec(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        for (i, &xi) in x.iter().enumerate().take(self.rows) {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                y[j] += a * xi;
+            }
+        }
+    }
+
+    /// The transpose.
+    pub fn transpose(&self) -> Self {
+        let mut t = Vec::with_capacity(self.nnz());
+        for i in 0..self.rows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                t.push((j, i, a));
+            }
+        }
+        Self::from_triplets(self.cols, self.rows, &t).expect("transpose of a valid matrix")
+    }
+
+    /// Keeps rows `row_keep` and columns `col_keep` (in that order).
+    pub fn submatrix(&self, row_keep: &[usize], col_keep: &[usize]) -> Self {
+        let mut col_map = vec![usize::MAX; self.cols];
+        for (new, &old) in col_keep.iter().enumerate() {
+            col_map[old] = new;
+        }
+        let mut t = Vec::new();
+        for (new_i, &i) in row_keep.iter().enumerate() {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                if col_map[j] != usize::MAX {
+                    t.push((new_i, col_map[j], a));
+                }
+            }
+        }
+        Self::from_triplets(row_keep.len(), col_keep.len(), &t)
+            .expect("submatrix of a valid matrix")
+    }
+
+    /// Scales row i by s_i: diag(s) · A.
+    pub fn scale_rows(&self, s: &[f64]) -> Self {
+        let mut out = self.clone();
+        for (i, si) in s.iter().enumerate().take(self.rows) {
+            for v in &mut out.values[self.row_ptr[i]..self.row_ptr[i + 1]] {
+                *v *= si;
+            }
+        }
+        out
+    }
+
+    /// The Kronecker product B ⊗ A (A varies fastest): entry
+    /// (i_a + m_a·i_b, j_a + n_a·j_b) = A(i_a, j_a)·B(i_b, j_b).
+    pub fn kron(b: &SparseMatrix, a: &SparseMatrix) -> Self {
+        let mut t = Vec::with_capacity(a.nnz() * b.nnz());
+        for ib in 0..b.rows {
+            let (cb, vb) = b.row(ib);
+            for ia in 0..a.rows {
+                let (ca, va) = a.row(ia);
+                for (&jb, &bv) in cb.iter().zip(vb) {
+                    for (&ja, &av) in ca.iter().zip(va) {
+                        t.push((ia + a.rows * ib, ja + a.cols * jb, av * bv));
+                    }
+                }
+            }
+        }
+        Self::from_triplets(a.rows * b.rows, a.cols * b.cols, &t)
+            .expect("Kronecker of valid matrices")
+    }
+
+    /// Dense copy (for tests and small eigenvalue problems).
+    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
+        let mut d = nalgebra::DMatrix::zeros(self.rows, self.cols);
+        for i in 0..self.rows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                d[(i, j)] = a;
+            }
+        }
+        d
+    }
+
+    /// A faer sparse column matrix with the same entries (for Cholesky).
+    pub fn to_faer(&self) -> Result<faer::sparse::SparseColMat<usize, f64>> {
+        let mut t = Vec::with_capacity(self.nnz());
+        for i in 0..self.rows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                t.push(faer::sparse::Triplet::new(i, j, a));
+            }
+        }
+        faer::sparse::SparseColMat::try_new_from_triplets(self.rows, self.cols, &t)
+            .map_err(|e| Error::InvalidArgument(format!("cannot build a faer matrix: {e:?}")))
+    }
+}

@@ -1,0 +1,224 @@
+//! # Tables of the book chapter
+//!
+//! Book §4.6–4.7, Tables 4.2–4.4: the 2D tensor-product B-spline mass matrix
+//! (ρ = 1) on the unit square with n = 1/h spans per direction, open uniform
+//! knots with C^{p−1} continuity and homogeneous Dirichlet conditions (first
+//! and last function of each direction removed: (n + p − 2)² DOFs).
+//!
+//! - `book-4.2`: κ = λ_max/λ_min by the Kronecker identity κ(M_y⊗M_x) = κ(M_x)κ(M_y).
+//! - `book-4.3`: CG iterations for f = M·(−9.81·1) from zero until
+//!   ‖r_k‖/‖r_0‖ < 1e-8 (recursive residual, assembled sparse 2D matrix).
+//! - `book-4.4`: p-multigrid V-cycles (forward Gauss–Seidel, ν₁ = ν₂ = 8,
+//!   lumped transfer, CG to 1e-4 on p = 1) until ‖f − Ma‖/‖f‖ < 1e-8.
+
+use super::{Computed, TableSpec, Tolerance};
+use crate::error::Result;
+use crate::mass::{consistent_mass_constant, with_dirichlet, Kronecker2d};
+use crate::solve::cg::{conjugate_gradient, CgVariant};
+use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
+use crate::solve::spectrum::spectrum_kronecker;
+use crate::solve::LinearOperator;
+use crate::sparse::SparseMatrix;
+use crate::spline::KnotVector;
+
+/// The 1D factor: consistent mass of degree p on `spans` spans of [0, 1],
+/// with or without the Dirichlet rows and columns.
+pub fn unit_mass_1d(spans: usize, degree: usize, dirichlet: bool) -> Result<SparseMatrix> {
+    let kv = KnotVector::open_uniform(0.0, 1.0, spans, degree)?;
+    let m = consistent_mass_constant(&kv, 1.0)?;
+    Ok(if dirichlet { with_dirichlet(&m) } else { m })
+}
+
+/// The 2D mass matrix M_y ⊗ M_x of the book's tables, in Kronecker form.
+pub fn unit_mass_2d(spans: usize, degree: usize, dirichlet: bool) -> Result<Kronecker2d> {
+    let m = unit_mass_1d(spans, degree, dirichlet)?;
+    Ok(Kronecker2d::new(m.clone(), m))
+}
+
+/// The right-hand side of Tables 4.3–4.4: f = M·(−9.81·1), so that the exact
+/// solution is the constant −9.81.
+pub fn gravity_rhs(m: &dyn LinearOperator) -> Vec<f64> {
+    let ones = vec![-9.81; m.size()];
+    let mut f = vec![0.0; m.size()];
+    m.apply(&ones, &mut f);
+    f
+}
+
+/// CG iteration count for one (p, 1/h) entry of Table 4.3 with a given variant
+/// and operator form (`assembled`: the sparse 2D matrix; otherwise the
+/// Kronecker product is applied as vec(M X Mᵀ)).
+pub fn cg_iterations(
+    spans: usize,
+    degree: usize,
+    variant: CgVariant,
+    assembled: bool,
+) -> Result<usize> {
+    let k = unit_mass_2d(spans, degree, true)?;
+    let out = if assembled {
+        let a = k.assemble();
+        let f = gravity_rhs(&a);
+        conjugate_gradient(&a, &f, 1e-8, 10_000, variant)?
+    } else {
+        let f = gravity_rhs(&k);
+        conjugate_gradient(&k, &f, 1e-8, 10_000, variant)?
+    };
+    Ok(out.iterations)
+}
+
+/// V-cycle count for one entry of Table 4.4 with the given options.
+pub fn pmg_cycles(spans: usize, degree: usize, options: PMultigridOptions) -> Result<usize> {
+    let mg = PMultigrid::unit_mass(spans, degree, 2, true, options)?;
+    let f = gravity_rhs(mg.matrix());
+    Ok(mg.solve(&f, 1e-8, 1000)?.iterations)
+}
+
+/// The variants of book §4.7's p-multigrid compared in docs/reproduction.md:
+/// (name, options). The first reproduces Table 4.4 without any coarse grid.
+pub fn pmg_alternatives() -> Vec<(&'static str, PMultigridOptions)> {
+    use crate::solve::pmultigrid::{Smoother, Transfer};
+    let book = PMultigridOptions::default();
+    vec![
+        (
+            "16 forward Gauss–Seidel sweeps per cycle, no coarse correction",
+            PMultigridOptions {
+                coarse_correction: false,
+                ..book
+            },
+        ),
+        (
+            "symmetric Gauss–Seidel smoother",
+            PMultigridOptions {
+                smoother: Smoother::SymmetricGaussSeidel,
+                ..book
+            },
+        ),
+        (
+            "damped Jacobi smoother (ω = 2/3)",
+            PMultigridOptions {
+                smoother: Smoother::DampedJacobi { omega: 2.0 / 3.0 },
+                ..book
+            },
+        ),
+        (
+            "consistent transfer",
+            PMultigridOptions {
+                transfer: Transfer::Consistent,
+                ..book
+            },
+        ),
+    ]
+}
+
+fn grid(
+    rows: usize,
+    cols: &[usize],
+    mut f: impl FnMut(usize, usize) -> Result<f64>,
+) -> Result<Vec<Vec<Option<f64>>>> {
+    (1..=rows)
+        .map(|p| cols.iter().map(|&n| f(p, n).map(Some)).collect())
+        .collect()
+}
+
+fn table_4_2() -> TableSpec {
+    TableSpec {
+        id: "book-4.2",
+        published_json: include_str!("../../golden/published/book-4.2.json"),
+        setup: "2D tensor-product B-spline mass matrix, ρ = 1, unit square, 1/h spans per \
+                direction, open uniform knots (C^{p−1}), exact Gauss quadrature (p+1 points), \
+                homogeneous Dirichlet (first and last function per direction removed). \
+                κ = λ_max/λ_min (Eq. 4.56) from faer's 1D eigenvalues and κ(M⊗M) = κ(M)².",
+        tolerances: &[Tolerance::CONDITION_NUMBER],
+        compute: |_| {
+            let values = grid(5, &[8, 16, 32, 64], |p, n| {
+                Ok(spectrum_kronecker(&unit_mass_2d(n, p, true)?)?.condition_number())
+            })?;
+            Ok(Computed {
+                values,
+                notes: vec![],
+            })
+        },
+    }
+}
+
+fn table_4_3() -> TableSpec {
+    TableSpec {
+        id: "book-4.3",
+        published_json: include_str!("../../golden/published/book-4.3.json"),
+        setup: "Same matrix as book-4.2. f = M·(−9.81·1) (exact solution constant). Plain CG \
+                from zero with the recursive residual (Hestenes–Stiefel), stopped when \
+                ‖r_k‖/‖r_0‖ < 1e-8 (Eq. 4.53), on the assembled sparse 2D matrix. Integer \
+                counts must match exactly; the note gives the spread over CG variants that are \
+                equal in exact arithmetic.",
+        tolerances: &[Tolerance::Exact],
+        compute: |_| {
+            let cols = [16, 32, 64, 128];
+            let values = grid(5, &cols, |p, n| {
+                Ok(cg_iterations(n, p, CgVariant::Recursive, true)? as f64)
+            })?;
+            let mut notes = Vec::new();
+            for p in 1..=5 {
+                let mut parts = Vec::new();
+                for &n in &cols {
+                    let mut counts = Vec::new();
+                    for v in [
+                        CgVariant::Recursive,
+                        CgVariant::TrueResidual,
+                        CgVariant::PolakRibiere,
+                    ] {
+                        for assembled in [true, false] {
+                            counts.push(cg_iterations(n, p, v, assembled)?);
+                        }
+                    }
+                    let lo = counts.iter().min().copied().unwrap_or(0);
+                    let hi = counts.iter().max().copied().unwrap_or(0);
+                    parts.push(format!("1/h={n}: {lo}–{hi}"));
+                }
+                notes.push(format!("CG-variant spread, p = {p}: {}", parts.join(", ")));
+            }
+            Ok(Computed { values, notes })
+        },
+    }
+}
+
+fn table_4_4() -> TableSpec {
+    TableSpec {
+        id: "book-4.4",
+        published_json: include_str!("../../golden/published/book-4.4.json"),
+        setup: "Same matrix and f as book-4.3. p-multigrid V-cycles from zero: levels p, p−1, …, 1 \
+                on the same spans with C^{q−1} continuity and rediscretised mass matrices; \
+                forward Gauss–Seidel with ν₁ = ν₂ = 8; lumped transfer M_L⁻¹P, P_ij = ∫φ_i^q φ_j^{q−1}; \
+                CG to 1e-4 on p = 1; stop at ‖f − Ma‖/‖f‖ < 1e-8.",
+        tolerances: &[Tolerance::Exact],
+        compute: |options| {
+            let cols = [8, 16, 32, 64];
+            let values = grid(5, &cols, |p, n| Ok(pmg_cycles(n, p, PMultigridOptions::default())? as f64))?;
+            let mut notes = Vec::new();
+            if !options.quick {
+                for (name, opt) in pmg_alternatives() {
+                    let g = grid(5, &cols, |p, n| {
+                        Ok(match pmg_cycles(n, p, opt) {
+                            Ok(c) => c as f64,
+                            Err(_) => f64::NAN,
+                        })
+                    })?;
+                    let rows: Vec<String> = g
+                        .iter()
+                        .map(|r| {
+                            r.iter()
+                                .map(|v| v.map_or("-".into(), |v| if v.is_nan() { "n/c".into() } else { format!("{v}") }))
+                                .collect::<Vec<String>>()
+                                .join(" ")
+                        })
+                        .collect();
+                    notes.push(format!("{name}: {}", rows.join(" | ")));
+                }
+            }
+            Ok(Computed { values, notes })
+        },
+    }
+}
+
+/// The book's registered tables.
+pub fn tables() -> Vec<TableSpec> {
+    vec![table_4_2(), table_4_3(), table_4_4()]
+}

@@ -1,0 +1,206 @@
+//! Mass matrices, Kronecker operators and solvers: book Eqs. (4.2)–(4.4),
+//! (4.53)–(4.57); thesis §3.1, §7.2 and A.1–A.2.
+
+mod common;
+
+use common::open_knots;
+use hompm::mass::{
+    consistent_mass, consistent_mass_constant, lumped_by_row_sum, lumped_variational,
+    material_point_lumped_mass, material_point_mass, Kronecker2d,
+};
+use hompm::solve::cg::{conjugate_gradient, conjugate_gradient_observed, CgVariant};
+use hompm::solve::direct::cholesky_solve;
+use hompm::solve::richardson::{richardson, richardson_contraction};
+use hompm::solve::spectrum::{spectrum_1d, spectrum_kronecker, symmetric_eigenvalues};
+use hompm::sparse::SparseMatrix;
+use hompm::spline::KnotVector;
+use proptest::prelude::*;
+
+fn random_matrix(rows: usize, cols: usize, seed: &[f64]) -> SparseMatrix {
+    let mut t = Vec::new();
+    for i in 0..rows {
+        for j in 0..cols {
+            let v = seed[(i * cols + j) % seed.len()] * ((i + 2 * j) as f64).sin();
+            if v.abs() > 0.2 {
+                t.push((i, j, v));
+            }
+        }
+    }
+    SparseMatrix::from_triplets(rows, cols, &t).unwrap()
+}
+
+fn random_spd(n: usize, seed: &[f64], shift: f64) -> SparseMatrix {
+    let b = random_matrix(n, n, seed).to_dense();
+    let a = &b * b.transpose() + nalgebra::DMatrix::identity(n, n) * shift;
+    let mut t = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            t.push((i, j, a[(i, j)]));
+        }
+    }
+    SparseMatrix::from_triplets(n, n, &t).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Book Eqs. (4.3) and (4.4): for a partition-of-unity basis, row-sum and
+    /// variational lumping agree, and the lumped masses sum to ∫ρ.
+    #[test]
+    fn row_sum_and_variational_lumping_agree(kv in open_knots(6, 0.02), c0 in 0.5f64..3.0, c1 in -0.2f64..0.2) {
+        let (a, b) = kv.domain();
+        let rho = move |x: f64| c0 + c1 * (x - a) / (b - a);
+        let q = kv.degree() + 2;
+        let mc = consistent_mass(&kv, &rho, q).unwrap();
+        let row = lumped_by_row_sum(&mc);
+        let var = lumped_variational(&kv, &rho, q).unwrap();
+        let total = c0 * (b - a) + 0.5 * c1 * (b - a);
+        for (r, v) in row.iter().zip(&var) {
+            prop_assert!((r - v).abs() < 1e-12 * total);
+        }
+        prop_assert!((row.iter().sum::<f64>() - total).abs() < 1e-12 * total);
+        prop_assert!(row.iter().all(|&m| m > 0.0));
+    }
+
+    /// Thesis §3.1 / book Eq. (4.5): material-point masses are conserved by the
+    /// mapping, Σ_ij M_ij = Σ_i m_i = Σ_p m_p (partition of unity, book Eq. 4.24).
+    #[test]
+    fn material_point_mass_is_conserved(kv in open_knots(5, 0.02),
+                                        pts in proptest::collection::vec((0.0f64..=1.0, 0.1f64..2.0), 1..40)) {
+        let (a, b) = kv.domain();
+        let x: Vec<f64> = pts.iter().map(|(t, _)| a + t * (b - a)).collect();
+        let m: Vec<f64> = pts.iter().map(|(_, m)| *m).collect();
+        let total: f64 = m.iter().sum();
+        let mc = material_point_mass(&kv, &x, &m).unwrap();
+        let lumped = material_point_lumped_mass(&kv, &x, &m).unwrap();
+        prop_assert!((mc.row_sums().iter().sum::<f64>() - total).abs() < 1e-12 * total);
+        prop_assert!((lumped.iter().sum::<f64>() - total).abs() < 1e-12 * total);
+        for (l, r) in lumped.iter().zip(mc.row_sums()) {
+            prop_assert!((l - r).abs() < 1e-12 * total);
+        }
+    }
+
+    /// (A⊗B)x = vec(B X Aᵀ) against the assembled product, rectangular factors.
+    #[test]
+    fn kronecker_product_matches_assembled(ma in 1usize..7, na in 1usize..7, mb in 1usize..7, nb in 1usize..7,
+                                           seed in proptest::collection::vec(-1.0f64..1.0, 13),
+                                           v in proptest::collection::vec(-1.0f64..1.0, 49)) {
+        let a = random_matrix(ma, na, &seed);
+        let b = random_matrix(mb, nb, &seed[3..]);
+        let k = Kronecker2d::new(a, b);
+        let x = &v[..na * nb];
+        let mut y1 = vec![0.0; ma * mb];
+        let mut y2 = vec![0.0; ma * mb];
+        k.apply(x, &mut y1);
+        k.assemble().mul_vec(x, &mut y2);
+        for (p, q) in y1.iter().zip(&y2) {
+            prop_assert!((p - q).abs() < 1e-12);
+        }
+    }
+
+    /// Book Eq. (4.57): after k CG iterations the error in the energy norm is at
+    /// most 2((√κ−1)/(√κ+1))^k times the initial one. The bound is a statement
+    /// about ‖·‖_A, not the Euclidean norm of the error or the residual (which
+    /// CG does not make monotone), so ‖e‖_A = √(eᵀAe) is what is tested.
+    #[test]
+    fn cg_obeys_the_energy_norm_bound(n in 2usize..25, seed in proptest::collection::vec(-1.0f64..1.0, 17),
+                                      shift in 0.01f64..2.0, rhs in proptest::collection::vec(-1.0f64..1.0, 25)) {
+        let a = random_spd(n, &seed, shift);
+        let b = &rhs[..n];
+        prop_assume!(b.iter().any(|v| v.abs() > 1e-3));
+        let exact = cholesky_solve(&a, b).unwrap();
+        let kappa = spectrum_1d(&a).unwrap().condition_number();
+        let rate = (kappa.sqrt() - 1.0) / (kappa.sqrt() + 1.0);
+        let energy = |x: &[f64]| {
+            let e: Vec<f64> = x.iter().zip(&exact).map(|(u, v)| u - v).collect();
+            let mut ae = vec![0.0; n];
+            a.mul_vec(&e, &mut ae);
+            e.iter().zip(&ae).map(|(u, v)| u * v).sum::<f64>().sqrt()
+        };
+        let e0 = energy(&vec![0.0; n]);
+        let mut worst: f64 = 0.0;
+        let _ = conjugate_gradient_observed(&a, b, 1e-12, 4 * n, CgVariant::Recursive, &mut |k, x| {
+            let bound = 2.0 * rate.powi(k as i32) * e0;
+            worst = worst.max(energy(x) - bound - 1e-9 * e0);
+        });
+        prop_assert!(worst <= 0.0, "bound violated by {worst}");
+    }
+}
+
+/// κ(A ⊗ B) = κ(A) κ(B), against the eigenvalues of the assembled product.
+#[test]
+fn kronecker_condition_number_is_the_product() {
+    for (p, n) in [(1, 4), (2, 3), (3, 5)] {
+        let kv = KnotVector::open_uniform(0.0, 1.0, n, p).unwrap();
+        let kw = KnotVector::open_uniform(0.0, 2.0, n + 1, p).unwrap();
+        let a = consistent_mass_constant(&kv, 1.0).unwrap();
+        let b = consistent_mass_constant(&kw, 1.0).unwrap();
+        let k = Kronecker2d::new(a.clone(), b.clone());
+        let s = spectrum_kronecker(&k).unwrap();
+        let ev = symmetric_eigenvalues(&k.assemble()).unwrap();
+        let assembled = ev[ev.len() - 1] / ev[0];
+        assert!((s.condition_number() - assembled).abs() < 1e-9 * assembled);
+        let ka = spectrum_1d(&a).unwrap().condition_number();
+        let kb = spectrum_1d(&b).unwrap().condition_number();
+        assert!((s.condition_number() - ka * kb).abs() < 1e-9 * assembled);
+    }
+}
+
+/// Exact P1 and P2-B-spline element matrices: h/6·[2 1; 1 2] for P1.
+#[test]
+fn linear_consistent_mass_is_the_textbook_matrix() {
+    let kv = KnotVector::open_uniform(0.0, 3.0, 3, 1).unwrap();
+    let m = consistent_mass_constant(&kv, 2.0).unwrap();
+    let h: f64 = 1.0;
+    assert!((m.get(0, 0) - 2.0 * h / 3.0).abs() < 1e-14);
+    assert!((m.get(1, 1) - 4.0 * h / 3.0).abs() < 1e-14);
+    assert!((m.get(0, 1) - h / 3.0).abs() < 1e-14);
+    assert_eq!(m.get(0, 2), 0.0);
+}
+
+/// Thesis §7.2: Richardson with the lumped matrix converges to the direct
+/// solution; its contraction factor ρ(I − M_L⁻¹M_C) grows towards 1 with p.
+#[test]
+fn richardson_converges_and_slows_down_with_degree() {
+    let mut last = 0.0;
+    for p in 1..=5 {
+        let kv = KnotVector::open_uniform(0.0, 1.0, 16, p).unwrap();
+        let mc = consistent_mass_constant(&kv, 1.0).unwrap();
+        let ml = lumped_by_row_sum(&mc);
+        let rhs: Vec<f64> = (0..kv.num_basis()).map(|i| (i as f64).cos()).collect();
+        let rho = richardson_contraction(&mc, &ml).unwrap();
+        assert!(rho < 1.0 && rho > last, "p = {p}: ρ = {rho}");
+        last = rho;
+        let it = richardson(&mc, &ml, &rhs, 1e-9, 100_000).unwrap();
+        let direct = cholesky_solve(&mc, &rhs).unwrap();
+        let err = it
+            .solution
+            .iter()
+            .zip(&direct)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let scale = direct.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        assert!(err < 1e-6 * scale, "p = {p}: {err}");
+        if p == 1 {
+            assert!((rho - 2.0 / 3.0).abs() < 0.02, "P1: ρ → 2/3, got {rho}");
+        }
+    }
+}
+
+/// Failures are typed: a non-SPD system, a non-positive lumped mass, a wrong size.
+#[test]
+fn solver_failures_are_errors() {
+    let bad = SparseMatrix::from_triplets(2, 2, &[(0, 0, 1.0), (1, 1, -1.0)]).unwrap();
+    assert!(conjugate_gradient(&bad, &[0.0, 1.0], 1e-8, 10, CgVariant::Recursive).is_err());
+    assert!(cholesky_solve(&bad, &[1.0, 1.0]).is_err());
+    assert!(spectrum_1d(&bad).is_err());
+    let good = SparseMatrix::diagonal_matrix(&[1.0, 2.0]).unwrap();
+    assert!(richardson(&good, &[1.0, 0.0], &[1.0, 1.0], 1e-9, 10).is_err());
+    assert!(conjugate_gradient(&good, &[1.0], 1e-8, 10, CgVariant::Recursive).is_err());
+    assert!(conjugate_gradient(&good, &[1.0, f64::NAN], 1e-8, 10, CgVariant::Recursive).is_err());
+    assert!(conjugate_gradient(&good, &[1.0, 1.0], -1.0, 10, CgVariant::Recursive).is_err());
+    let kv = KnotVector::open_uniform(0.0, 1.0, 4, 2).unwrap();
+    assert!(material_point_mass(&kv, &[0.5, 1.5], &[1.0, 1.0]).is_err());
+    assert!(material_point_mass(&kv, &[0.5], &[1.0, 1.0]).is_err());
+    assert_eq!(kv.num_basis(), 6);
+}
