@@ -90,3 +90,78 @@ for bad in [["0", "1", "0.5"], ["0", "nan", "1"], ["0", "0", "0", "0", "1"]]:
     code, out, err = run(["basis", "--degree", "1", "--knots", ",".join(bad), "--at", "0.5"])
     assert code != 0 and len(err.strip().splitlines()) == 1 and "panicked" not in err, (bad, err)
 print("malformed knots rejected cleanly")
+
+# reconstruct: TLS by numpy least squares, cubic splines by scipy, MLS by numpy.
+from scipy.interpolate import CubicSpline
+from math import factorial
+def taylor(a, b, nb, x):
+    xc, dx = 0.5 * (a + b), 0.5 * (b - a)
+    out = [1.0]
+    for k in range(1, nb):
+        avg = 0.0 if k % 2 else dx**k / (k + 1)
+        out.append(((x - xc)**k - avg) / (factorial(k) * dx**k))
+    return np.array(out)
+worst = 0.0
+for trial in range(60):
+    ncell = rng.randint(1, 4)
+    edges = [float(v) for v in np.cumsum([rng.uniform(-1, 1)] + [rng.uniform(0.3, 2.0) for _ in range(ncell)])]
+    nb = rng.randint(1, 4)
+    pts, vals = [], []
+    for e in range(ncell):
+        a, b = edges[e], edges[e + 1]
+        for k in range(nb + 2):
+            pts.append(a + (b - a) * (k + 0.5 + 0.3 * rng.uniform(-1, 1)) / (nb + 2))
+            vals.append(rng.uniform(-2, 2))
+    ints = [rng.uniform(-3, 3) for _ in range(ncell)]
+    at = [edges[0] + (edges[-1] - edges[0]) * rng.random() for _ in range(5)]
+    args = ["reconstruct", "--cells", ",".join(map(repr, edges)), "--points", ",".join(map(repr, pts)),
+            "--values", ",".join(map(repr, vals)), "--order", str(nb), "--at", ",".join(map(repr, at)), "--json"]
+    for method in ["tls", "tls-conservative"]:
+        extra = ["--method", method] + (["--integrals", ",".join(map(repr, ints))] if method == "tls-conservative" else [])
+        code, out, err = run(args + extra)
+        assert code == 0, err
+        doc = json.loads(out)
+        for z, got in zip(at, doc["values"]):
+            e = min(np.searchsorted(edges, z, side="right") - 1, ncell - 1)
+            a, b = edges[e], edges[e + 1]
+            sel = [(p, v) for p, v in zip(pts, vals) if a <= p <= b]
+            P = np.array([taylor(a, b, nb, p) for p, _ in sel]); V = np.array([v for _, v in sel])
+            if method == "tls":
+                coef = np.linalg.lstsq(P, V, rcond=None)[0]
+            else:
+                a1 = ints[e] / (b - a)
+                rest = np.linalg.lstsq(P[:, 1:], V - a1, rcond=None)[0] if nb > 1 else np.array([])
+                coef = np.concatenate([[a1], rest])
+            ref = float(taylor(a, b, nb, z) @ coef)
+            worst = max(worst, abs(got - ref) / (1 + abs(ref)))
+    order = np.argsort(pts)
+    for method, bc in [("cubic-spline", "not-a-knot"), ("cubic-spline-natural", "natural")]:
+        code, out, err = run(args + ["--method", method])
+        assert code == 0, err
+        cs = CubicSpline(np.array(pts)[order], np.array(vals)[order], bc_type=bc)
+        for z, got in zip(at, json.loads(out)["values"]):
+            worst = max(worst, abs(got - float(cs(z))) / (1 + abs(float(cs(z)))))
+print(f"reconstruct: TLS and cubic splines against numpy/scipy, worst relative difference {worst:.2e}")
+assert worst < 1e-10
+
+# MLS (MLS paper Eqs. 10-17) by numpy.
+def w(r):
+    r = abs(r)
+    return 0.75 - r * r if r <= 0.5 else (0.5 * (1.5 - r) ** 2 if r <= 1.5 else 0.0)
+worst = 0.0
+for trial in range(40):
+    edges = [0.0, 1.0, 2.0, 3.0]
+    pts = sorted(rng.uniform(0, 3) for _ in range(12))
+    vals = [rng.uniform(-1, 1) for _ in pts]
+    at = [rng.uniform(0, 3) for _ in range(4)]
+    code, out, err = run(["reconstruct", "--method", "mls", "--cells", "0,1,2,3", "--points", ",".join(map(repr, pts)),
+                          "--values", ",".join(map(repr, vals)), "--at", ",".join(map(repr, at)), "--json"])
+    if code != 0:
+        continue  # a singular moment matrix is reported as an error, by design
+    for z, got in zip(at, json.loads(out)["values"]):
+        W = np.array([w((z - p) / 2.0) for p in pts]); P = np.array([[1.0, p] for p in pts])
+        A = (P.T * W) @ P
+        ref = float(np.array([1.0, z]) @ np.linalg.solve(A, (P.T * W) @ np.array(vals)))
+        worst = max(worst, abs(got - ref) / (1 + abs(ref)))
+print(f"reconstruct: MLS against numpy, worst relative difference {worst:.2e}")
+assert worst < 1e-10

@@ -19,6 +19,8 @@
 //! | 2 | [`sparse`] | CSR storage for banded and Kronecker mass matrices |
 //! | 2 | [`mass`] | consistent and lumped mass, Kronecker 2D operators (book Eqs. 4.2–4.4, thesis A.1–A.2) |
 //! | 3 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
+//! | 4 | [`reconstruct`] | least squares, Taylor LS, cubic splines, MLS (book §4.4, TLS §5, thesis §7.1, MLS Eqs. 6–17) |
+//! | 0 | [`rng`] | the seeded generator behind every "random" layout |
 //! | 6 | [`tables`] | the registry of published tables and their computations |
 //!
 //! Later layers (solvers, reconstruction, the MPM step, scenes, the report)
@@ -29,6 +31,8 @@ pub mod error;
 pub mod lagrange;
 pub mod mass;
 pub mod quadrature;
+pub mod reconstruct;
+pub mod rng;
 pub mod solve;
 pub mod sparse;
 pub mod spline;

@@ -71,6 +71,34 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Reconstruct a function from scattered data: TLS (book Eqs. 4.26-4.37), cubic splines
+    /// (thesis §7.1) or MLS (MLS paper Eqs. 6-17). Prints values at --at, cell integrals and κ(D).
+    Reconstruct {
+        /// tls, tls-conservative, cubic-spline (not-a-knot), cubic-spline-natural or mls.
+        #[arg(long)]
+        method: String,
+        /// Cell boundaries a,b,c,... (consecutive cells [a,b], [b,c], ...).
+        #[arg(long, allow_hyphen_values = true)]
+        cells: String,
+        /// Data abscissae.
+        #[arg(long, allow_hyphen_values = true)]
+        points: String,
+        /// Data values.
+        #[arg(long, allow_hyphen_values = true)]
+        values: String,
+        /// Integral to conserve in each cell (tls-conservative).
+        #[arg(long, allow_hyphen_values = true)]
+        integrals: Option<String>,
+        /// Number of Taylor basis functions n_b.
+        #[arg(long, default_value_t = 3)]
+        order: usize,
+        /// Query points.
+        #[arg(long, allow_hyphen_values = true)]
+        at: String,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Published and computed values of one table, with deviation and status.
     Table {
         /// Table id (see --list).
@@ -162,6 +190,145 @@ fn basis(degree: usize, knots: &str, at: &str, derivatives: bool, json: bool) ->
             let row: Vec<String> = d[k].iter().map(|v| format!("{v:.12}")).collect();
             s.push_str(&format!("        dphi = [{}]\n", row.join(", ")));
         }
+    }
+    Ok(s)
+}
+
+struct ReconstructArgs {
+    method: String,
+    cells: String,
+    points: String,
+    values: String,
+    integrals: Option<String>,
+    order: usize,
+    at: String,
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct ReconstructJson {
+    method: String,
+    values: Vec<f64>,
+    cell_integrals: Vec<f64>,
+    condition_numbers: Option<Vec<f64>>,
+}
+
+fn reconstruct(args: ReconstructArgs) -> Result<String> {
+    use hompm::quadrature::gauss_on_cells;
+    use hompm::reconstruct::{cubic_spline, mls, taylor};
+    let edges = parse_list("--cells", &args.cells)?;
+    if edges.len() < 2 {
+        return Err(Error::InvalidArgument(
+            "--cells needs at least two boundaries".into(),
+        ));
+    }
+    let cells: Vec<(f64, f64)> = edges.windows(2).map(|w| (w[0], w[1])).collect();
+    if let Some(&(a, b)) = cells.iter().find(|(a, b)| b.is_nan() || b <= a) {
+        return Err(Error::InvalidArgument(format!(
+            "cell [{a}, {b}] is empty: --cells must increase"
+        )));
+    }
+    let points = parse_list("--points", &args.points)?;
+    let values = parse_list("--values", &args.values)?;
+    let at = parse_list("--at", &args.at)?;
+    let integrals = args
+        .integrals
+        .as_deref()
+        .map(|t| parse_list("--integrals", t))
+        .transpose()?;
+    let eval: Box<dyn Fn(f64) -> Result<f64>>;
+    let mut kappas = None;
+    match args.method.as_str() {
+        "tls" | "tls-conservative" => {
+            let ints = if args.method == "tls-conservative" {
+                Some(integrals.clone().ok_or_else(|| {
+                    Error::InvalidArgument("tls-conservative needs --integrals".into())
+                })?)
+            } else {
+                None
+            };
+            let options = taylor::TlsOptions { order: args.order, ..Default::default() };
+            let r = taylor::reconstruct(&cells, &points, &values, ints.as_deref(), options)?;
+            kappas = Some(r.condition_numbers());
+            eval = Box::new(move |x| Ok(r.evaluate(x)));
+        }
+        "cubic-spline" | "cubic-spline-natural" => {
+            let end = if args.method == "cubic-spline" {
+                cubic_spline::EndCondition::NotAKnot
+            } else {
+                cubic_spline::EndCondition::Natural
+            };
+            let mut pairs: Vec<(f64, f64)> = points.iter().copied().zip(values.iter().copied()).collect();
+            if points.len() != values.len() {
+                return Err(Error::InvalidArgument("--points and --values differ in length".into()));
+            }
+            pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let (x, y): (Vec<f64>, Vec<f64>) = pairs.into_iter().unzip();
+            let s = cubic_spline::CubicSpline::new(&x, &y, end)?;
+            eval = Box::new(move |z| Ok(s.evaluate(z)));
+        }
+        "mls" => {
+            let cells_c = cells.clone();
+            let (points, values) = (points.clone(), values.clone());
+            eval = Box::new(move |z| {
+                let (a, b) = cells_c
+                    .iter()
+                    .copied()
+                    .find(|&(a, b)| a <= z && z <= b)
+                    .ok_or(Error::OutsideDomain { x: z, a: edges[0], b: edges[edges.len() - 1] })?;
+                mls::reconstruct_1d(z, &points, &values, b - a)
+            });
+        }
+        other => {
+            return Err(Error::InvalidArgument(format!(
+                "--method must be tls, tls-conservative, cubic-spline, cubic-spline-natural or mls, got '{other}'"
+            )))
+        }
+    }
+    let out_values: Vec<f64> = at.iter().map(|&x| eval(x)).collect::<Result<_>>()?;
+    // Cell integrals: 10 Gauss points on each sub-interval between data points
+    // (exact for TLS of order ≤ 20 and for cubic-spline pieces).
+    let mut cell_integrals = Vec::new();
+    for &(a, b) in &cells {
+        let mut cuts: Vec<f64> = points.iter().copied().filter(|&x| x > a && x < b).collect();
+        cuts.push(a);
+        cuts.push(b);
+        cuts.sort_by(|p, q| p.total_cmp(q));
+        cuts.dedup();
+        let subs: Vec<(f64, f64)> = cuts.windows(2).map(|w| (w[0], w[1])).collect();
+        let q = gauss_on_cells(&subs, 10)?;
+        let mut sum = 0.0;
+        for p in q {
+            sum += p.weight * eval(p.x)?;
+        }
+        cell_integrals.push(sum);
+    }
+    if let Some(v) = out_values
+        .iter()
+        .chain(&cell_integrals)
+        .find(|v| !v.is_finite())
+    {
+        return Err(Error::Singular(format!("the reconstruction produced {v}")));
+    }
+    let doc = ReconstructJson {
+        method: args.method.clone(),
+        values: out_values,
+        cell_integrals,
+        condition_numbers: kappas,
+    };
+    if args.json {
+        return to_json(&doc);
+    }
+    let mut s = format!("{} reconstruction\n", doc.method);
+    for (x, v) in at.iter().zip(&doc.values) {
+        s.push_str(&format!("f({x}) = {v:.12e}\n"));
+    }
+    for (e, c) in doc.cell_integrals.iter().enumerate() {
+        s.push_str(&format!("cell {e}: integral {c:.12e}"));
+        if let Some(k) = &doc.condition_numbers {
+            s.push_str(&format!(", condition number of D {:.3e}", k[e]));
+        }
+        s.push('\n');
     }
     Ok(s)
 }
@@ -365,6 +532,25 @@ fn main() -> ExitCode {
             json,
         } => basis(degree, &knots, &at, derivatives, json),
         Command::Table { id, list, json } => table(id, list, json),
+        Command::Reconstruct {
+            method,
+            cells,
+            points,
+            values,
+            integrals,
+            order,
+            at,
+            json,
+        } => reconstruct(ReconstructArgs {
+            method,
+            cells,
+            points,
+            values,
+            integrals,
+            order,
+            at,
+            json,
+        }),
         Command::Mass {
             degree,
             spans,

@@ -17,6 +17,7 @@
 
 pub mod book;
 pub mod thesis;
+pub mod tls;
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -147,20 +148,10 @@ pub struct TableSpec {
     pub published_json: &'static str,
     /// The setup in one paragraph, as computed here.
     pub setup: &'static str,
-    /// Tolerance kind per row; a single entry applies to every row.
-    pub tolerances: &'static [Tolerance],
+    /// Tolerance kind of entry (row, column).
+    pub tolerance: fn(usize, usize) -> Tolerance,
     /// Computes the table.
     pub compute: fn(&RunOptions) -> Result<Computed>,
-}
-
-impl TableSpec {
-    fn tolerance(&self, row: usize) -> Tolerance {
-        if self.tolerances.len() == 1 {
-            self.tolerances[0]
-        } else {
-            self.tolerances[row]
-        }
-    }
 }
 
 /// Published, computed, deviation and status of one table (the `table` JSON
@@ -191,8 +182,8 @@ pub struct TableReport {
     pub deviation: Vec<Vec<Option<f64>>>,
     /// Status per entry.
     pub status: Vec<Vec<Status>>,
-    /// Tolerance per row.
-    pub tolerance: Vec<Tolerance>,
+    /// Tolerance per entry.
+    pub tolerance: Vec<Vec<Tolerance>>,
     /// Findings.
     pub notes: Vec<String>,
 }
@@ -274,6 +265,7 @@ impl TableReport {
 /// Every registered table, in the order of DESIGN.md.
 pub fn registry() -> Vec<TableSpec> {
     let mut all = book::tables();
+    all.extend(tls::tables());
     all.push(thesis::appendix_a1());
     all
 }
@@ -314,7 +306,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         for c in 0..cols {
             if let (Some(p), Some(v)) = (published.values[r][c], computed.values[r][c]) {
                 deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
-                status[r][c] = if spec.tolerance(r).accepts(p, v) {
+                status[r][c] = if (spec.tolerance)(r, c).accepts(p, v) {
                     Status::Reproduced
                 } else {
                     Status::Deviates
@@ -335,7 +327,9 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         computed: computed.values,
         deviation,
         status,
-        tolerance: (0..rows).map(|r| spec.tolerance(r)).collect(),
+        tolerance: (0..rows)
+            .map(|r| (0..cols).map(|c| (spec.tolerance)(r, c)).collect())
+            .collect(),
         notes: computed.notes,
     })
 }

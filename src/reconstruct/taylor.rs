@@ -1,0 +1,418 @@
+//! # Taylor basis and Taylor least squares (TLS)
+//!
+//! On a 1D cell Ω_e = [x_min, x_max] with centroid x_c = (x_max + x_min)/2 and
+//! half-width Δx = (x_max − x_min)/2, the Taylor basis is (book Eq. 4.31, TLS
+//! paper §5.2, continued in the same pattern beyond ψ_3):
+//!
+//! ψ_1 = 1,  ψ_{k+1}(x) = [(x − x_c)^k − \overline{(x − x_c)^k}] / (k! Δx^k),  k ≥ 1,
+//!
+//! where the bar is the cell average (book Eq. 4.30), computed exactly:
+//! 0 for odd k and Δx^k/(k+1) for even k. Hence ∫_{Ω_e} ψ_i = |Ω_e| δ_{i1}
+//! (book Eq. 4.32, TLS paper Eq. 12).
+//!
+//! *Conservative* TLS fixes α_1 = c/|Ω_e| (book Eq. 4.35, TLS paper Eq. 14) and
+//! fits the rest, ψ_2 … ψ_{n_b}, to f − α_1 by least squares; the integral of
+//! the reconstruction is then c exactly (Eq. 4.34). *Unconstrained* TLS
+//! (book Eq. 4.36) fits all coefficients. The global reconstruction is the sum
+//! of the cell reconstructions, each zero outside its cell (Eq. 4.37).
+//!
+//! Degenerate cells (TLS paper §5.3, Figs. 4–5) are detected by κ(D). They are
+//! repaired either with *virtual data points* — the neighbouring cell's TLS
+//! evaluated at the shared boundary, added to the data but not to the
+//! constraint — or with a reduced basis, or reported as an error.
+
+use super::least_squares::{fit, normal_matrix, symmetric_condition_number};
+use crate::error::{finite, Error, Result};
+
+/// The Taylor basis of order n_b on one cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaylorBasis {
+    a: f64,
+    b: f64,
+    order: usize,
+}
+
+fn factorial(k: usize) -> f64 {
+    (1..=k).map(|i| i as f64).product()
+}
+
+impl TaylorBasis {
+    /// The first `order` = n_b Taylor functions on [a, b].
+    pub fn new(a: f64, b: f64, order: usize) -> Result<Self> {
+        finite("cell end", a)?;
+        finite("cell end", b)?;
+        if b <= a {
+            return Err(Error::InvalidArgument(format!(
+                "cell [{a}, {b}] has zero or negative length"
+            )));
+        }
+        if order == 0 {
+            return Err(Error::InvalidDegree("a Taylor basis needs n_b ≥ 1".into()));
+        }
+        Ok(Self { a, b, order })
+    }
+
+    /// n_b.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The cell [x_min, x_max].
+    pub fn cell(&self) -> (f64, f64) {
+        (self.a, self.b)
+    }
+
+    /// |Ω_e| = x_max − x_min.
+    pub fn volume(&self) -> f64 {
+        self.b - self.a
+    }
+
+    /// x_c.
+    pub fn centroid(&self) -> f64 {
+        0.5 * (self.a + self.b)
+    }
+
+    /// Δx.
+    pub fn half_width(&self) -> f64 {
+        0.5 * (self.b - self.a)
+    }
+
+    /// The exact cell average of (x − x_c)^k, book Eq. (4.30).
+    pub fn average_of_power(&self, k: usize) -> f64 {
+        if k % 2 == 1 {
+            0.0
+        } else {
+            self.half_width().powi(k as i32) / (k as f64 + 1.0)
+        }
+    }
+
+    /// ψ_1(x) … ψ_{n_b}(x), book Eq. (4.31).
+    pub fn evaluate(&self, x: f64) -> Vec<f64> {
+        let dx = self.half_width();
+        let s = x - self.centroid();
+        (0..self.order)
+            .map(|k| {
+                if k == 0 {
+                    1.0
+                } else {
+                    (s.powi(k as i32) - self.average_of_power(k))
+                        / (factorial(k) * dx.powi(k as i32))
+                }
+            })
+            .collect()
+    }
+}
+
+/// The TLS fit on one cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellFit {
+    /// The Taylor basis actually used (its order may be reduced).
+    pub basis: TaylorBasis,
+    /// α_1 … α_{n_b}.
+    pub coefficients: Vec<f64>,
+    /// κ(D) of the least-squares system solved (1 if nothing was fitted).
+    pub condition_number: f64,
+    /// Number of virtual data points that were added.
+    pub virtual_points: usize,
+}
+
+impl CellFit {
+    /// f̃(x) = Σ α_i ψ_i(x), book Eq. (4.33).
+    pub fn evaluate(&self, x: f64) -> f64 {
+        self.basis
+            .evaluate(x)
+            .iter()
+            .zip(&self.coefficients)
+            .map(|(p, a)| p * a)
+            .sum()
+    }
+
+    /// ∫_{Ω_e} f̃ = α_1 |Ω_e|, book Eq. (4.34).
+    pub fn integral(&self) -> f64 {
+        self.coefficients.first().copied().unwrap_or(0.0) * self.basis.volume()
+    }
+}
+
+/// TLS on one cell: conservative with `integral = Some(c)` (book Eqs.
+/// 4.33–4.35), unconstrained with `None` (Eq. 4.36). `Error::Singular` when
+/// κ(D) exceeds `max_condition` or there are too few points.
+pub fn fit_cell(
+    basis: TaylorBasis,
+    points: &[f64],
+    values: &[f64],
+    integral: Option<f64>,
+    max_condition: f64,
+) -> Result<CellFit> {
+    let rows: Vec<Vec<f64>> = points.iter().map(|&x| basis.evaluate(x)).collect();
+    match integral {
+        Some(c) => {
+            finite("cell integral", c)?;
+            let a1 = c / basis.volume();
+            if basis.order() == 1 {
+                return Ok(CellFit {
+                    basis,
+                    coefficients: vec![a1],
+                    condition_number: 1.0,
+                    virtual_points: 0,
+                });
+            }
+            let reduced: Vec<Vec<f64>> = rows.iter().map(|r| r[1..].to_vec()).collect();
+            let shifted: Vec<f64> = values.iter().map(|v| v - a1).collect();
+            check_condition(&reduced, basis.order() - 1, max_condition)?;
+            let f = fit(&reduced, &shifted, basis.order() - 1)?;
+            let mut coefficients = vec![a1];
+            coefficients.extend(f.coefficients);
+            Ok(CellFit {
+                basis,
+                coefficients,
+                condition_number: f.condition_number,
+                virtual_points: 0,
+            })
+        }
+        None => {
+            check_condition(&rows, basis.order(), max_condition)?;
+            let f = fit(&rows, values, basis.order())?;
+            Ok(CellFit {
+                basis,
+                coefficients: f.coefficients,
+                condition_number: f.condition_number,
+                virtual_points: 0,
+            })
+        }
+    }
+}
+
+fn check_condition(rows: &[Vec<f64>], nb: usize, max_condition: f64) -> Result<()> {
+    if rows.len() < nb {
+        return Err(Error::Singular(format!(
+            "{} data points cannot determine {nb} Taylor coefficients",
+            rows.len()
+        )));
+    }
+    let kappa = symmetric_condition_number(&normal_matrix(rows, nb));
+    if kappa.is_nan() || kappa > max_condition {
+        return Err(Error::Singular(format!(
+            "the least-squares matrix D has condition number {kappa:e} > {max_condition:e}"
+        )));
+    }
+    Ok(())
+}
+
+/// What to do with a cell whose data cannot determine its TLS fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DegenerateCells {
+    /// Return `Error::Singular` naming the cell.
+    Error,
+    /// Lower n_b until the fit is well conditioned.
+    ReduceBasis,
+    /// Add virtual points from well-conditioned neighbours (TLS paper §5.3),
+    /// then reduce the basis if that is still not enough.
+    VirtualPoints,
+}
+
+/// How data points on a shared cell boundary are assigned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Assignment {
+    /// A point on a boundary serves both cells (TLS paper §5.3 example).
+    Closed,
+    /// Half-open cells [a, b), the last one closed (MPM particles).
+    HalfOpen,
+}
+
+/// Options of a global TLS reconstruction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TlsOptions {
+    /// n_b (3 = quadratic, the seeds' choice).
+    pub order: usize,
+    /// Degenerate-cell policy.
+    pub degenerate: DegenerateCells,
+    /// κ(D) above which a cell counts as degenerate.
+    pub max_condition: f64,
+    /// Boundary-point assignment.
+    pub assignment: Assignment,
+}
+
+impl Default for TlsOptions {
+    /// Quadratic TLS, virtual points, κ limit 1e10, closed cells.
+    fn default() -> Self {
+        Self {
+            order: 3,
+            degenerate: DegenerateCells::VirtualPoints,
+            max_condition: 1e10,
+            assignment: Assignment::Closed,
+        }
+    }
+}
+
+/// A global TLS reconstruction: one [`CellFit`] per cell (book Eq. 4.37).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TlsReconstruction {
+    /// The cell fits, in cell order; `None` for a cell with no data and no
+    /// prescribed integral (the reconstruction is zero there).
+    pub cells: Vec<Option<CellFit>>,
+}
+
+impl TlsReconstruction {
+    /// f̃(x): the fit of the cell containing x (half-open cells, last one
+    /// closed); zero outside every cell.
+    pub fn evaluate(&self, x: f64) -> f64 {
+        let n = self.cells.len();
+        for (e, c) in self.cells.iter().enumerate() {
+            if let Some(c) = c {
+                let (a, b) = c.basis.cell();
+                if (a <= x && x < b) || (e + 1 == n && x == b) {
+                    return c.evaluate(x);
+                }
+            }
+        }
+        // Cells may be None; locate by the fitted cells only.
+        0.0
+    }
+
+    /// ∫_{Ω_e} f̃ for every cell.
+    pub fn cell_integrals(&self) -> Vec<f64> {
+        self.cells
+            .iter()
+            .map(|c| c.as_ref().map_or(0.0, |c| c.integral()))
+            .collect()
+    }
+
+    /// κ(D) per cell (1 for an empty cell).
+    pub fn condition_numbers(&self) -> Vec<f64> {
+        self.cells
+            .iter()
+            .map(|c| c.as_ref().map_or(1.0, |c| c.condition_number))
+            .collect()
+    }
+}
+
+fn in_cell(x: f64, a: f64, b: f64, last: bool, assignment: Assignment) -> bool {
+    match assignment {
+        Assignment::Closed => a <= x && x <= b,
+        Assignment::HalfOpen => (a <= x && x < b) || (last && x == b),
+    }
+}
+
+/// TLS reconstruction over consecutive cells (book Eqs. 4.33–4.37, TLS paper
+/// §5.3–5.4). With `integrals = Some(c)`, cell e conserves c[e]; otherwise
+/// every coefficient is fitted. Data outside every cell is an error.
+pub fn reconstruct(
+    cells: &[(f64, f64)],
+    points: &[f64],
+    values: &[f64],
+    integrals: Option<&[f64]>,
+    options: TlsOptions,
+) -> Result<TlsReconstruction> {
+    if points.len() != values.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} points but {} values",
+            points.len(),
+            values.len()
+        )));
+    }
+    if let Some(c) = integrals {
+        if c.len() != cells.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{} integrals for {} cells",
+                c.len(),
+                cells.len()
+            )));
+        }
+    }
+    for w in cells.windows(2) {
+        if w[0].1 != w[1].0 {
+            return Err(Error::InvalidArgument(format!(
+                "cells [{}, {}] and [{}, {}] are not consecutive",
+                w[0].0, w[0].1, w[1].0, w[1].1
+            )));
+        }
+    }
+    let (lo, hi) = match (cells.first(), cells.last()) {
+        (Some(f), Some(l)) => (f.0, l.1),
+        _ => return Err(Error::InvalidArgument("no cells".into())),
+    };
+    for (k, &x) in points.iter().enumerate() {
+        finite(&format!("data point {k}"), x)?;
+        if x < lo || x > hi {
+            return Err(Error::OutsideDomain { x, a: lo, b: hi });
+        }
+    }
+    let n = cells.len();
+    let data: Vec<(Vec<f64>, Vec<f64>)> = cells
+        .iter()
+        .enumerate()
+        .map(|(e, &(a, b))| {
+            let idx: Vec<usize> = (0..points.len())
+                .filter(|&k| in_cell(points[k], a, b, e + 1 == n, options.assignment))
+                .collect();
+            (
+                idx.iter().map(|&k| points[k]).collect(),
+                idx.iter().map(|&k| values[k]).collect(),
+            )
+        })
+        .collect();
+    let attempt = |e: usize, order: usize, px: &[f64], pv: &[f64]| -> Result<Option<CellFit>> {
+        let (a, b) = cells[e];
+        let c = integrals.map(|c| c[e]);
+        if px.is_empty() && c.is_none() {
+            return Ok(None);
+        }
+        fit_cell(
+            TaylorBasis::new(a, b, order)?,
+            px,
+            pv,
+            c,
+            options.max_condition,
+        )
+        .map(Some)
+    };
+    let mut fits: Vec<Option<Result<Option<CellFit>>>> = (0..n)
+        .map(|e| Some(attempt(e, options.order, &data[e].0, &data[e].1)))
+        .collect();
+    let mut out: Vec<Option<CellFit>> = vec![None; n];
+    let mut degenerate = Vec::new();
+    for e in 0..n {
+        match fits[e].take().expect("filled above") {
+            Ok(f) => out[e] = f,
+            Err(err) => degenerate.push((e, err)),
+        }
+    }
+    for (e, err) in degenerate {
+        let (a, b) = cells[e];
+        match options.degenerate {
+            DegenerateCells::Error => {
+                return Err(Error::Singular(format!(
+                    "TLS on cell {e} [{a}, {b}]: {err}"
+                )));
+            }
+            DegenerateCells::ReduceBasis | DegenerateCells::VirtualPoints => {
+                let (mut px, mut pv) = data[e].clone();
+                let mut added = 0;
+                if options.degenerate == DegenerateCells::VirtualPoints {
+                    for (nb, at) in [(e.checked_sub(1), a), (Some(e + 1).filter(|&k| k < n), b)] {
+                        if let Some(Some(fitted)) = nb.map(|k| &out[k]) {
+                            if !px.contains(&at) {
+                                px.push(at);
+                                pv.push(fitted.evaluate(at));
+                                added += 1;
+                            }
+                        }
+                    }
+                }
+                let mut order = options.order;
+                let fitted = loop {
+                    match attempt(e, order, &px, &pv) {
+                        Ok(f) => break f,
+                        Err(_) if order > 1 => order -= 1,
+                        Err(err) => return Err(err),
+                    }
+                };
+                out[e] = fitted.map(|mut f| {
+                    f.virtual_points = added;
+                    f
+                });
+            }
+        }
+    }
+    Ok(TlsReconstruction { cells: out })
+}

@@ -1,0 +1,228 @@
+//! Reconstruction: book Eqs. (4.26)–(4.37), TLS paper §5, thesis §7.1, MLS
+//! paper Eqs. (6)–(17).
+
+use hompm::quadrature::{gauss_on_cells, GaussLegendre};
+use hompm::reconstruct::cubic_spline::{CubicSpline, EndCondition};
+use hompm::reconstruct::mls::{reconstruct_1d, shape_functions_1d, shape_functions_2d};
+use hompm::reconstruct::taylor::{
+    reconstruct, Assignment, DegenerateCells, TaylorBasis, TlsOptions,
+};
+use hompm::Error;
+use proptest::prelude::*;
+use std::f64::consts::PI;
+
+fn cells_strategy() -> impl Strategy<Value = Vec<(f64, f64)>> {
+    (-3.0f64..3.0, proptest::collection::vec(0.2f64..2.0, 1..6)).prop_map(|(a, widths)| {
+        let mut x = a;
+        widths
+            .iter()
+            .map(|w| {
+                let c = (x, x + w);
+                x += w;
+                c
+            })
+            .collect()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Book Eq. (4.32): ∫ψ_1 = |Ω_e| and ∫ψ_i = 0 for i > 1, n_b ≤ 6.
+    #[test]
+    fn taylor_basis_integral_property(a in -5.0f64..5.0, w in 0.01f64..5.0, nb in 1usize..=6) {
+        let basis = TaylorBasis::new(a, a + w, nb).unwrap();
+        let rule = GaussLegendre::new(nb.max(1)).unwrap();
+        for i in 0..nb {
+            let integral = rule.integrate(a, a + w, |x| basis.evaluate(x)[i]);
+            let expected = if i == 0 { w } else { 0.0 };
+            prop_assert!((integral - expected).abs() < 1e-13 * w.max(1.0), "ψ_{} integrates to {integral}", i + 1);
+        }
+    }
+
+    /// Book Eqs. (4.34)–(4.35) and TLS paper §5.5: the conservative TLS
+    /// reconstruction integrates to the prescribed value in every cell, and an
+    /// exact Gauss rule with n_b ≤ 2 N_g/N_e points preserves the total.
+    #[test]
+    fn conservative_tls_preserves_cell_integrals(cells in cells_strategy(), nb in 1usize..=4,
+                                                 data in proptest::collection::vec((0.0f64..1.0, -3.0f64..3.0), 30),
+                                                 c in proptest::collection::vec(-5.0f64..5.0, 6)) {
+        // At least n_b distinct points per cell, well spread.
+        let mut x = Vec::new();
+        let mut y = Vec::new();
+        for (e, &(a, b)) in cells.iter().enumerate() {
+            for k in 0..(nb + 2) {
+                let t = (k as f64 + 0.5 + 0.4 * (data[(e * 5 + k) % 30].0 - 0.5)) / (nb as f64 + 2.0);
+                x.push(a + t * (b - a));
+                y.push(data[(e * 7 + k) % 30].1);
+            }
+        }
+        let integrals: Vec<f64> = c[..cells.len()].to_vec();
+        let options = TlsOptions { order: nb, assignment: Assignment::HalfOpen, ..TlsOptions::default() };
+        let r = reconstruct(&cells, &x, &y, Some(&integrals), options).unwrap();
+        for (got, want) in r.cell_integrals().iter().zip(&integrals) {
+            prop_assert!((got - want).abs() <= 1e-13 * (1.0 + want.abs()));
+        }
+        let ng = nb.div_ceil(2).max(1);
+        let q = gauss_on_cells(&cells, ng).unwrap();
+        let total: f64 = q.iter().map(|p| p.weight * r.evaluate(p.x)).sum();
+        let want: f64 = integrals.iter().sum();
+        let scale = 1.0 + integrals.iter().map(|v| v.abs()).sum::<f64>() + y.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        prop_assert!((total - want).abs() <= 1e-13 * scale, "{total} vs {want}");
+    }
+
+    /// TLS reproduces polynomials of degree < n_b exactly, with and without the
+    /// conservation constraint (given the exact cell integral).
+    #[test]
+    fn tls_reproduces_polynomials(a in -2.0f64..2.0, w in 0.2f64..3.0, nb in 1usize..=5,
+                                  coef in proptest::collection::vec(-2.0f64..2.0, 5),
+                                  ts in proptest::collection::vec(0.0f64..=1.0, 8..12)) {
+        let poly = |x: f64| coef[..nb].iter().rev().fold(0.0, |acc, c| acc * x + c);
+        let mut ts = ts.clone();
+        ts.sort_by(|p, q| p.total_cmp(q));
+        ts.dedup_by(|p, q| (*p - *q).abs() < 0.02);
+        prop_assume!(ts.len() > nb);
+        let x: Vec<f64> = ts.iter().map(|t| a + t * w).collect();
+        let y: Vec<f64> = x.iter().map(|&v| poly(v)).collect();
+        let exact = GaussLegendre::new(5).unwrap().integrate(a, a + w, poly);
+        for conservative in [false, true] {
+            let ints = [exact];
+            let options = TlsOptions { order: nb, degenerate: DegenerateCells::Error, ..TlsOptions::default() };
+            let r = reconstruct(&[(a, a + w)], &x, &y, conservative.then_some(&ints[..]), options).unwrap();
+            for k in 0..=10 {
+                let z = (a + w * k as f64 / 10.0).min(a + w);
+                prop_assert!((r.evaluate(z) - poly(z)).abs() < 1e-9 * (1.0 + poly(z).abs()));
+            }
+        }
+    }
+
+    /// Thesis §7.1: a not-a-knot spline reproduces cubics; both end conditions
+    /// interpolate the data; the natural spline has s'' = 0 at the ends.
+    #[test]
+    fn cubic_splines_interpolate_and_reproduce_cubics(c in proptest::collection::vec(-2.0f64..2.0, 4),
+                                                      gaps in proptest::collection::vec(0.05f64..1.0, 3..15)) {
+        let mut x = vec![0.0];
+        for g in &gaps { x.push(x.last().unwrap() + g); }
+        let f = |t: f64| c[0] + c[1] * t + c[2] * t * t + c[3] * t * t * t;
+        let y: Vec<f64> = x.iter().map(|&t| f(t)).collect();
+        let nak = CubicSpline::new(&x, &y, EndCondition::NotAKnot).unwrap();
+        let nat = CubicSpline::new(&x, &y, EndCondition::Natural).unwrap();
+        let end = *x.last().unwrap();
+        for k in 0..=50 {
+            let t = -0.1 + (end + 0.2) * k as f64 / 50.0;
+            prop_assert!((nak.evaluate(t) - f(t)).abs() < 1e-8 * (1.0 + f(t).abs()));
+        }
+        for (&t, &v) in x.iter().zip(&y) {
+            prop_assert!((nat.evaluate(t) - v).abs() < 1e-10 * (1.0 + v.abs()));
+            prop_assert!((nak.evaluate(t) - v).abs() < 1e-10 * (1.0 + v.abs()));
+        }
+        let h = 1e-4;
+        let second = |s: &CubicSpline, t: f64| (s.evaluate(t + h) - 2.0 * s.evaluate(t) + s.evaluate(t - h)) / (h * h);
+        let scale = 1.0 + y.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        prop_assert!(second(&nat, x[0] + h).abs() < 1e-2 * scale / gaps[0].min(1.0));
+    }
+
+    /// MLS paper Eq. (14): the shape functions sum to one and reproduce linear
+    /// fields exactly (1D with [1, x], 2D with [1, x, y]).
+    #[test]
+    fn mls_partition_of_unity_and_linear_reproduction(n in 3usize..20, l in 0.1f64..1.0, s in 0.0f64..1.0,
+                                                      a0 in -2.0f64..2.0, a1 in -2.0f64..2.0, a2 in -2.0f64..2.0) {
+        let pts: Vec<f64> = (0..n).map(|k| k as f64 * l * 0.7).collect();
+        let x = s * pts[n - 1];
+        let phi = shape_functions_1d(x, &pts, l).unwrap();
+        prop_assert!((phi.iter().sum::<f64>() - 1.0).abs() < 1e-10);
+        let u: Vec<f64> = pts.iter().map(|p| a0 + a1 * p).collect();
+        let uh = reconstruct_1d(x, &pts, &u, l).unwrap();
+        prop_assert!((uh - (a0 + a1 * x)).abs() < 1e-9 * (1.0 + (a0 + a1 * x).abs()));
+        let grid: Vec<[f64; 2]> = (0..n * n).map(|k| [(k % n) as f64 * l * 0.7, (k / n) as f64 * l * 0.6 + 0.1 * ((k % n) as f64).sin() * l]).collect();
+        let y = s * grid[n * n - 1][1];
+        let phi = shape_functions_2d([x, y], &grid, [l, l]).unwrap();
+        prop_assert!((phi.iter().sum::<f64>() - 1.0).abs() < 1e-10);
+        let lin: f64 = phi.iter().zip(&grid).map(|(p, q)| p * (a0 + a1 * q[0] + a2 * q[1])).sum();
+        prop_assert!((lin - (a0 + a1 * x + a2 * y)).abs() < 1e-9 * (1.0 + lin.abs()));
+    }
+}
+
+/// TLS paper §5.3, Figs. 4–5: [π, 2π] holding only π and 5π/3 makes D singular
+/// (the rows ψ(π) = (−1, 1/3) and ψ(5π/3) = (1/3, −1/9) are parallel). The
+/// condition number detects it; a virtual point at 2π from the TLS of
+/// [2π, 3π] repairs it; conservation holds; and the error on [π, 2π] is lower
+/// than with the reduced basis.
+#[test]
+fn degenerate_cell_is_detected_and_repaired_by_a_virtual_point() {
+    let f = |x: f64| x.sin() + 2.0;
+    let cells: Vec<(f64, f64)> = (0..4)
+        .map(|k| (k as f64 * PI, (k + 1) as f64 * PI))
+        .collect();
+    let ints: Vec<f64> = cells
+        .iter()
+        .map(|&(a, b)| 2.0 * (b - a) + a.cos() - b.cos())
+        .collect();
+    let x = vec![
+        0.0,
+        0.5 * PI,
+        PI,
+        5.0 * PI / 3.0,
+        2.25 * PI,
+        2.5 * PI,
+        2.75 * PI,
+        3.2 * PI,
+        3.5 * PI,
+        3.9 * PI,
+    ];
+    let y: Vec<f64> = x.iter().map(|&v| f(v)).collect();
+    let strict = TlsOptions {
+        degenerate: DegenerateCells::Error,
+        ..TlsOptions::default()
+    };
+    match reconstruct(&cells, &x, &y, Some(&ints), strict) {
+        Err(Error::Singular(msg)) => assert!(msg.contains("cell 1"), "{msg}"),
+        other => panic!("expected a singular cell, got {other:?}"),
+    }
+    let repaired = reconstruct(&cells, &x, &y, Some(&ints), TlsOptions::default()).unwrap();
+    let reduced = reconstruct(
+        &cells,
+        &x,
+        &y,
+        Some(&ints),
+        TlsOptions {
+            degenerate: DegenerateCells::ReduceBasis,
+            ..TlsOptions::default()
+        },
+    )
+    .unwrap();
+    let cell = repaired.cells[1].as_ref().unwrap();
+    assert_eq!(
+        cell.virtual_points, 1,
+        "one virtual point, at 2π (π is a real point)"
+    );
+    assert!(cell.condition_number < 1e3);
+    for (got, want) in repaired.cell_integrals().iter().zip(&ints) {
+        assert!((got - want).abs() < 1e-13 * want);
+    }
+    let q = gauss_on_cells(&[cells[1]], 100).unwrap();
+    let rms = |g: &dyn Fn(f64) -> f64| {
+        (q.iter().map(|p| (g(p.x) - f(p.x)).powi(2)).sum::<f64>() / q.len() as f64).sqrt()
+    };
+    let e_virtual = rms(&|z| repaired.evaluate(z));
+    let e_reduced = rms(&|z| reduced.evaluate(z));
+    assert!(
+        e_virtual < e_reduced,
+        "virtual {e_virtual} vs reduced {e_reduced}"
+    );
+    assert_eq!(reduced.cells[1].as_ref().unwrap().basis.order(), 2);
+}
+
+#[test]
+fn reconstruction_rejects_bad_input() {
+    assert!(CubicSpline::new(&[0.0, 1.0, 1.0], &[0.0, 1.0, 2.0], EndCondition::Natural).is_err());
+    assert!(CubicSpline::new(&[0.0], &[0.0], EndCondition::Natural).is_err());
+    assert!(CubicSpline::new(&[0.0, f64::NAN], &[0.0, 1.0], EndCondition::Natural).is_err());
+    assert!(matches!(
+        shape_functions_1d(0.5, &[0.5], 1.0),
+        Err(Error::Singular(_))
+    ));
+    assert!(shape_functions_1d(0.5, &[0.0, 1.0], -1.0).is_err());
+    assert!(reconstruct(&[(0.0, 1.0)], &[2.0], &[1.0], None, TlsOptions::default()).is_err());
+    assert!(TaylorBasis::new(1.0, 1.0, 3).is_err());
+}
