@@ -89,9 +89,14 @@ proptest! {
             let ints = [exact];
             let options = TlsOptions { order: nb, degenerate: DegenerateCells::Error, ..TlsOptions::default() };
             let r = reconstruct(&[(a, a + w)], &x, &y, conservative.then_some(&ints[..]), options).unwrap();
+            // Exact up to rounding amplified by κ(D) (clustered points make D
+            // ill-conditioned for high n_b).
+            let kappa = r.condition_numbers()[0];
+            let scale = 1.0 + y.iter().map(|v| v.abs()).fold(0.0, f64::max);
             for k in 0..=10 {
                 let z = (a + w * k as f64 / 10.0).min(a + w);
-                prop_assert!((r.evaluate(z) - poly(z)).abs() < 1e-9 * (1.0 + poly(z).abs()));
+                prop_assert!((r.evaluate(z) - poly(z)).abs() < 1e-13 * kappa.max(1.0) * scale + 1e-12,
+                    "κ = {kappa}");
             }
         }
     }

@@ -10,9 +10,9 @@
 //!   reproducing thesis Table 7.1 needs (docs/conventions.md). It reproduces
 //!   cubic polynomials exactly.
 //!
-//! The unknowns are the second derivatives M_i = s''(x_i); the system is
-//! tridiagonal (the not-a-knot rows are reduced to bidiagonal form by one
-//! elimination step) and solved by the Thomas algorithm in O(m). Outside
+//! The unknowns are the second derivatives M_i = s''(x_i); the not-a-knot
+//! conditions express M_1 and M_m through their neighbours, which keeps the
+//! system for M_2 … M_{m−1} tridiagonal, solved by the Thomas algorithm in O(m). Outside
 //! [x_1, x_m] the end cubics are extended (as scipy's `CubicSpline` does);
 //! spline-based MPM needs values slightly beyond the outermost particles.
 //! With fewer than four points, not-a-knot degrades to the interpolating
@@ -76,40 +76,28 @@ impl CubicSpline {
                 let c = 2.0 * (slope[1] - slope[0]) / (x[2] - x[0]);
                 second = vec![c; 3];
             }
-            _ => {
-                // Rows i = 0..m: sub[i] M_{i−1} + diag[i] M_i + sup[i] M_{i+1} = rhs[i].
-                let mut sub = vec![0.0; m];
-                let mut diag = vec![0.0; m];
-                let mut sup = vec![0.0; m];
-                let mut rhs = vec![0.0; m];
-                for i in 1..m - 1 {
-                    sub[i] = h[i - 1];
-                    diag[i] = 2.0 * (h[i - 1] + h[i]);
-                    sup[i] = h[i];
-                    rhs[i] = 6.0 * (slope[i] - slope[i - 1]);
-                }
-                match end {
-                    EndCondition::Natural => {
-                        diag[0] = 1.0;
-                        diag[m - 1] = 1.0;
-                    }
-                    EndCondition::NotAKnot => {
-                        // h1 M0 − (h0 + h1) M1 + h0 M2 = 0; eliminate M2 with row 1.
-                        let (h0, h1) = (h[0], h[1]);
-                        let f = h0 / sup[1];
-                        diag[0] = h1 - f * sub[1];
-                        sup[0] = -(h0 + h1) - f * diag[1];
-                        rhs[0] = -f * rhs[1];
-                        // h_{m−2} M_{m−3} − (h_{m−3} + h_{m−2}) M_{m−2} + h_{m−3} M_{m−1} = 0;
-                        // eliminate M_{m−3} with row m−2.
-                        let (ha, hb) = (h[m - 3], h[m - 2]);
-                        let g = hb / sub[m - 2];
-                        sub[m - 1] = -(ha + hb) - g * diag[m - 2];
-                        diag[m - 1] = ha - g * sup[m - 2];
-                        rhs[m - 1] = -g * rhs[m - 2];
-                    }
-                }
-                second = thomas(&sub, &diag, &sup, &rhs)?;
+            (EndCondition::Natural, _) => {
+                // Interior rows i = 1..m−1 with M_0 = M_{m−1} = 0.
+                let (sub, diag, sup, rhs) = interior_rows(&h, &slope);
+                let inner = thomas(&sub, &diag, &sup, &rhs)?;
+                second[1..m - 1].copy_from_slice(&inner);
+            }
+            (EndCondition::NotAKnot, _) => {
+                // Not-a-knot: M_0 = ((h0+h1) M_1 − h0 M_2)/h1 and
+                // M_{m−1} = ((ha+hb) M_{m−2} − hb M_{m−3})/ha (ha = h_{m−3},
+                // hb = h_{m−2}), substituted into the first and last interior rows.
+                let (mut sub, mut diag, mut sup, rhs) = interior_rows(&h, &slope);
+                let k = m - 2;
+                let (h0, h1) = (h[0], h[1]);
+                diag[0] += h0 * (h0 + h1) / h1;
+                sup[0] -= h0 * h0 / h1;
+                let (ha, hb) = (h[m - 3], h[m - 2]);
+                diag[k - 1] += hb * (ha + hb) / ha;
+                sub[k - 1] -= hb * hb / ha;
+                let inner = thomas(&sub, &diag, &sup, &rhs)?;
+                second[1..m - 1].copy_from_slice(&inner);
+                second[0] = ((h0 + h1) * second[1] - h0 * second[2]) / h1;
+                second[m - 1] = ((ha + hb) * second[m - 2] - hb * second[m - 3]) / ha;
             }
         }
         Ok(Self {
@@ -145,6 +133,23 @@ impl CubicSpline {
     pub fn nodes(&self) -> &[f64] {
         &self.x
     }
+}
+
+type Rows = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// The interior equations h_{i−1} M_{i−1} + 2(h_{i−1}+h_i) M_i + h_i M_{i+1} =
+/// 6(s_i − s_{i−1}) for i = 1..m−1, as (sub, diag, sup, rhs).
+fn interior_rows(h: &[f64], slope: &[f64]) -> Rows {
+    let k = h.len() - 1;
+    let mut rows: Rows = (vec![0.0; k], vec![0.0; k], vec![0.0; k], vec![0.0; k]);
+    for r in 0..k {
+        let i = r + 1;
+        rows.0[r] = h[i - 1];
+        rows.1[r] = 2.0 * (h[i - 1] + h[i]);
+        rows.2[r] = h[i];
+        rows.3[r] = 6.0 * (slope[i] - slope[i - 1]);
+    }
+    rows
 }
 
 /// Thomas algorithm for a tridiagonal system.

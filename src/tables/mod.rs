@@ -87,6 +87,8 @@ pub enum Tolerance {
     Relative(f64),
     /// computed ≤ 1e-13 and |log10(computed/published)| ≤ 1 (same decade).
     MachinePrecision,
+    /// |computed − published| ≤ tol (convergence orders, docs/conventions.md).
+    Absolute(f64),
 }
 
 impl Tolerance {
@@ -94,6 +96,8 @@ impl Tolerance {
     pub const CONDITION_NUMBER: Tolerance = Tolerance::Relative(0.01);
     /// RMS errors: 2 % (DEVELOPERS.md).
     pub const RMS: Tolerance = Tolerance::Relative(0.02);
+    /// Convergence orders log2(e(h)/e(h/2)): ±0.01 (docs/conventions.md).
+    pub const ORDER: Tolerance = Tolerance::Absolute(0.01);
 
     /// Whether `computed` reproduces `published`.
     pub fn accepts(self, published: f64, computed: f64) -> bool {
@@ -103,6 +107,7 @@ impl Tolerance {
         match self {
             Tolerance::Exact => computed == published,
             Tolerance::Relative(tol) => (computed - published).abs() <= tol * published.abs(),
+            Tolerance::Absolute(tol) => (computed - published).abs() <= tol,
             Tolerance::MachinePrecision => {
                 let c = computed.abs().max(1e-300);
                 let p = published.abs().max(1e-300);
@@ -266,6 +271,7 @@ impl TableReport {
 pub fn registry() -> Vec<TableSpec> {
     let mut all = book::tables();
     all.extend(tls::tables());
+    all.extend(thesis::tables());
     all.push(thesis::appendix_a1());
     all
 }

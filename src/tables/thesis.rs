@@ -40,3 +40,239 @@ fn compute_a1(_: &RunOptions) -> Result<Computed> {
         notes: vec![],
     })
 }
+
+use crate::mpm::diagnostics::rms_error;
+use crate::mpm::grid::Method;
+use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::scenes::{vibrating_bar, Discretisation};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+/// The three MPM variants of thesis chapters 5–7.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ThesisVariant {
+    /// Chapter 5: linear Lagrange MPM, direct mapping, lumped mass.
+    LinearLagrange,
+    /// Chapter 6: quadratic B-spline MPM, direct mapping, lumped mass.
+    BSpline,
+    /// Chapter 7: quadratic B-splines with not-a-knot cubic-spline
+    /// reconstruction of stress, density and velocity at the half-span Gauss
+    /// points, consistent mass by Richardson to 1e-9.
+    SplineBased,
+}
+
+impl ThesisVariant {
+    /// The discretisation for `cells` cells and `ppc` particles per cell.
+    pub fn discretisation(self, cells: usize, ppc: usize) -> Discretisation {
+        let (method, mapping, mass) = match self {
+            ThesisVariant::LinearLagrange => (Method::Mpm, Mapping::Direct, MassMatrix::Lumped),
+            ThesisVariant::BSpline => (
+                Method::Bsmpm { degree: 2 },
+                Mapping::Direct,
+                MassMatrix::Lumped,
+            ),
+            ThesisVariant::SplineBased => (
+                Method::Bsmpm { degree: 2 },
+                Mapping::CubicSpline,
+                MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
+            ),
+        };
+        Discretisation {
+            method,
+            force_mapping: mapping,
+            velocity_mapping: mapping,
+            mass,
+            cells,
+            ppc,
+        }
+    }
+}
+
+/// Thesis §4.3/§5.1.1: time step and number of steps of the convergence study.
+/// The error is taken after 1999 steps of 1e-5 s (t = 0.01999 s), against the
+/// analytic displacement at the particles' initial positions
+/// (docs/conventions.md: 2000 steps raise every entry by 5e-4 relative).
+pub const THESIS_DT: f64 = 1e-5;
+/// See [`THESIS_DT`].
+pub const THESIS_STEPS: usize = 1999;
+
+/// RMS displacement error of the vibrating bar (thesis Table 4.1) for one
+/// variant, resolution and PPC, with a custom mass option. Cached per process.
+pub fn bar_rms_with(
+    variant: ThesisVariant,
+    cells: usize,
+    ppc: usize,
+    mass: Option<MassMatrix>,
+) -> Result<f64> {
+    static CACHE: OnceLock<Mutex<HashMap<String, f64>>> = OnceLock::new();
+    let key = format!("{variant:?}/{cells}/{ppc}/{mass:?}");
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(v) = cache.lock().ok().and_then(|c| c.get(&key).copied()) {
+        return Ok(v);
+    }
+    let params = vibrating_bar::parameters("thesis-table-4.1")?;
+    let mut d = variant.discretisation(cells, ppc);
+    if let Some(m) = mass {
+        d.mass = m;
+    }
+    let mut sim = params.simulation(&d)?;
+    sim.run(THESIS_DT, THESIS_STEPS)?;
+    let t = THESIS_STEPS as f64 * THESIS_DT;
+    let exact: Vec<f64> = sim
+        .particles
+        .x0
+        .iter()
+        .map(|&x| params.displacement(x, t))
+        .collect();
+    let e = rms_error(&sim.particles.u, &exact)?;
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, e);
+    }
+    Ok(e)
+}
+
+/// [`bar_rms_with`] with the variant's own mass matrix.
+pub fn bar_rms(variant: ThesisVariant, cells: usize, ppc: usize) -> Result<f64> {
+    bar_rms_with(variant, cells, ppc, None)
+}
+
+const LEVELS: [usize; 5] = [4, 8, 16, 32, 64];
+const PPCS: [usize; 3] = [4, 6, 8];
+
+fn rms_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
+    let jobs: Vec<(usize, usize)> = LEVELS
+        .iter()
+        .flat_map(|&c| PPCS.iter().map(move |&p| (c, p)))
+        .collect();
+    let values: Vec<f64> = jobs
+        .par_iter()
+        .map(|&(c, p)| bar_rms(variant, c, p))
+        .collect::<Result<_>>()?;
+    Ok(values
+        .chunks(3)
+        .map(|r| r.iter().map(|v| Some(*v)).collect())
+        .collect())
+}
+
+fn order_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
+    let e: Vec<f64> = LEVELS
+        .par_iter()
+        .map(|&c| bar_rms(variant, c, 4))
+        .collect::<Result<_>>()?;
+    Ok(e.windows(2)
+        .map(|w| vec![Some((w[0] / w[1]).log2())])
+        .collect())
+}
+
+fn rms_table(id: &'static str, json: &'static str, setup: &'static str) -> TableSpec {
+    TableSpec {
+        id,
+        published_json: json,
+        setup,
+        tolerance: |_, _| Tolerance::RMS,
+        compute: match id {
+            "thesis-5.1" => |_| {
+                Ok(Computed {
+                    values: rms_grid(ThesisVariant::LinearLagrange)?,
+                    notes: vec![],
+                })
+            },
+            "thesis-6.2" => |_| {
+                Ok(Computed {
+                    values: rms_grid(ThesisVariant::BSpline)?,
+                    notes: vec![],
+                })
+            },
+            _ => |o| {
+                let mut notes = Vec::new();
+                if !o.quick {
+                    let direct = bar_rms_with(
+                        ThesisVariant::SplineBased,
+                        64,
+                        4,
+                        Some(MassMatrix::Consistent(ConsistentSolver::Cholesky)),
+                    )?;
+                    let tight = bar_rms_with(
+                        ThesisVariant::SplineBased,
+                        64,
+                        4,
+                        Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
+                            tolerance: 1e-13,
+                        })),
+                    )?;
+                    let loose = bar_rms_with(
+                        ThesisVariant::SplineBased,
+                        64,
+                        4,
+                        Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
+                            tolerance: 1e-6,
+                        })),
+                    )?;
+                    let lumped =
+                        bar_rms_with(ThesisVariant::SplineBased, 64, 4, Some(MassMatrix::Lumped))?;
+                    notes.push(format!(
+                        "finest level (64 spans, 4 PPC) against the velocity solve: Richardson 1e-9 (table) {:.4e}; \
+                         Richardson 1e-13 {tight:.4e}; Cholesky {direct:.4e}; Richardson 1e-6 {loose:.4e}; lumped mass {lumped:.4e}",
+                        bar_rms(ThesisVariant::SplineBased, 64, 4)?
+                    ));
+                }
+                Ok(Computed {
+                    values: rms_grid(ThesisVariant::SplineBased)?,
+                    notes,
+                })
+            },
+        },
+    }
+}
+
+fn order_table(id: &'static str, json: &'static str, setup: &'static str) -> TableSpec {
+    TableSpec {
+        id,
+        published_json: json,
+        setup,
+        tolerance: |_, _| Tolerance::ORDER,
+        compute: match id {
+            "thesis-5.2" => |_| {
+                Ok(Computed {
+                    values: order_grid(ThesisVariant::LinearLagrange)?,
+                    notes: vec![],
+                })
+            },
+            "thesis-6.1" => |_| {
+                Ok(Computed {
+                    values: order_grid(ThesisVariant::BSpline)?,
+                    notes: vec![],
+                })
+            },
+            _ => |_| {
+                Ok(Computed {
+                    values: order_grid(ThesisVariant::SplineBased)?,
+                    notes: vec![],
+                })
+            },
+        },
+    }
+}
+
+/// Thesis Tables 5.1, 5.2, 6.1, 6.2, 7.1, 7.2.
+pub fn tables() -> Vec<TableSpec> {
+    vec![
+        rms_table("thesis-5.1", include_str!("../../golden/published/thesis-5.1.json"),
+            "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), small-strain update, both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic displacement at the initial positions, t = 1999·Δt.",),
+        order_table("thesis-5.2", include_str!("../../golden/published/thesis-5.2.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-5.1."),
+        order_table("thesis-6.1", include_str!("../../golden/published/thesis-6.1.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-6.2."),
+        rms_table("thesis-6.2", include_str!("../../golden/published/thesis-6.2.json"),
+            "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup as thesis-5.1.",),
+        rms_table("thesis-7.1", include_str!("../../golden/published/thesis-7.1.json"),
+            "Spline-based MPM: quadratic B-splines; internal force, density and velocity from not-a-knot \
+             cubic splines through the particle values at 2 Gauss points per half knot span (deactivated or \
+             redefined outside [x_1 − V_1/2, x_N + V_N/2]); consistent mass from the reconstructed density \
+             with the same rule; M^C v = P solved in full by Richardson from P/M^L to ‖P − M^C v‖/‖P‖ ≤ 1e-9, \
+             then boundary velocities zeroed; setup as thesis-5.1.",),
+        order_table("thesis-7.2", include_str!("../../golden/published/thesis-7.2.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-7.1."),
+    ]
+}

@@ -1,0 +1,22 @@
+//! # The 1D material point method
+//!
+//! One MUSL step with Euler–Cromer time integration, exactly as book §4.2.2
+//! (Eqs. 4.5–4.18), TLS paper §3.1 and thesis §3.2 write it, for every variant
+//! the seeds compare:
+//!
+//! - bases ([`grid`]): P1 and P2 Lagrange (thesis §5), dual-domain gradients
+//!   (DDMPM, TLS paper §3.3), B-splines of any degree (book §4.3, thesis §6);
+//! - mappings of particle data to the grid ([`mapping`]): the direct MPM
+//!   mapping (Eqs. 4.5–4.10), Taylor least squares (book §4.4.3, TLS paper
+//!   §5.4) and cubic splines (thesis ch. 7);
+//! - mass: lumped, or consistent through a sparse Cholesky or the thesis'
+//!   Richardson iteration.
+//!
+//! [`particles`] holds the material points (struct of arrays), [`musl`] the
+//! time step and [`diagnostics`] the error measures of the seeds.
+
+pub mod diagnostics;
+pub mod grid;
+pub mod mapping;
+pub mod musl;
+pub mod particles;

@@ -1,0 +1,122 @@
+//! # Material points
+//!
+//! Each particle carries position x_p, displacement u_p, velocity v_p,
+//! stress σ_p, volume V_p and density ρ_p, all time dependent, and a fixed
+//! mass m_p = ρ_p⁰ V_p⁰ (book §4.2.2, thesis §3.2). The initial position X_p
+//! is kept because the seeds compare with analytic solutions in the
+//! reference configuration (thesis §2.2).
+
+use crate::error::{finite, Error, Result};
+
+/// Particles as a struct of arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Particles {
+    /// Initial positions X_p.
+    pub x0: Vec<f64>,
+    /// Current positions x_p.
+    pub x: Vec<f64>,
+    /// Displacements u_p = x_p − X_p (accumulated by Eq. 4.12).
+    pub u: Vec<f64>,
+    /// Velocities v_p.
+    pub v: Vec<f64>,
+    /// Stresses σ_p.
+    pub stress: Vec<f64>,
+    /// Volumes V_p.
+    pub volume: Vec<f64>,
+    /// Densities ρ_p.
+    pub density: Vec<f64>,
+    /// Masses m_p (constant).
+    pub mass: Vec<f64>,
+    /// Traction forces f_p^trac applied to the particle (thesis §3.2).
+    pub traction: Vec<f64>,
+    /// Accumulated strain ε_p = Σ Δε_p (for the maximal-strain diagnostic).
+    pub strain: Vec<f64>,
+}
+
+impl Particles {
+    /// Particles at the given initial positions with volumes, densities,
+    /// velocities and stresses; displacement zero, m_p = ρ_p V_p.
+    pub fn new(
+        x0: Vec<f64>,
+        volume: Vec<f64>,
+        density: Vec<f64>,
+        velocity: Vec<f64>,
+        stress: Vec<f64>,
+    ) -> Result<Self> {
+        let n = x0.len();
+        if [volume.len(), density.len(), velocity.len(), stress.len()]
+            .iter()
+            .any(|&l| l != n)
+        {
+            return Err(Error::InvalidArgument(
+                "particle arrays differ in length".into(),
+            ));
+        }
+        if n == 0 {
+            return Err(Error::InvalidArgument("no particles".into()));
+        }
+        for k in 0..n {
+            finite(&format!("position of particle {k}"), x0[k])?;
+            finite(&format!("velocity of particle {k}"), velocity[k])?;
+            finite(&format!("stress of particle {k}"), stress[k])?;
+            if volume[k].is_nan() || volume[k] <= 0.0 || density[k].is_nan() || density[k] <= 0.0 {
+                return Err(Error::InvalidArgument(format!(
+                    "particle {k} needs positive volume and density, got V = {}, ρ = {}",
+                    volume[k], density[k]
+                )));
+            }
+        }
+        let mass = volume.iter().zip(&density).map(|(v, r)| v * r).collect();
+        Ok(Self {
+            x: x0.clone(),
+            x0,
+            u: vec![0.0; n],
+            v: velocity,
+            stress,
+            volume,
+            density,
+            mass,
+            traction: vec![0.0; n],
+            strain: vec![0.0; n],
+        })
+    }
+
+    /// `count` particles at the centres of equal sub-intervals of [a, b]:
+    /// x_p = a + (p − ½)(b − a)/count, V_p = (b − a)/count (thesis §3.2:
+    /// "initially equally distributed", V_p⁰ = L/n_p; x_p = 12.4023 m for the
+    /// bar of thesis §5.1.1).
+    pub fn uniform(a: f64, b: f64, count: usize, density: f64) -> Result<Self> {
+        if count == 0 {
+            return Err(Error::InvalidArgument("no particles".into()));
+        }
+        let dx = (b - a) / count as f64;
+        let x0: Vec<f64> = (0..count).map(|p| a + (p as f64 + 0.5) * dx).collect();
+        Self::new(
+            x0,
+            vec![dx; count],
+            vec![density; count],
+            vec![0.0; count],
+            vec![0.0; count],
+        )
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Always false: there is at least one particle.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Total mass Σ m_p.
+    pub fn total_mass(&self) -> f64 {
+        self.mass.iter().sum()
+    }
+
+    /// Total momentum Σ m_p v_p.
+    pub fn total_momentum(&self) -> f64 {
+        self.mass.iter().zip(&self.v).map(|(m, v)| m * v).sum()
+    }
+}

@@ -1,0 +1,34 @@
+//! # Benchmark scenes
+//!
+//! Each scene has named parameter sets (one per seed table, kept separate
+//! because the seeds' values differ), builds the grid and particles, and
+//! provides the analytic solution where one exists.
+//!
+//! - [`vibrating_bar`]: thesis §4.1 (Tables 4.1/4.2), TLS paper §6.1
+//!   (Tables 2/4), book §4.5 (Table 4.1);
+//! - [`column`]: the column under self-weight (thesis §4.2, Tables 4.3/4.4,
+//!   series solution Eq. 4.2) and with a top load (thesis Table 8.1).
+
+pub mod column;
+pub mod vibrating_bar;
+
+use crate::mpm::grid::Method;
+use crate::mpm::mapping::{Mapping, MassMatrix};
+use serde::Serialize;
+
+/// The discretisation and algorithm choices of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Discretisation {
+    /// Method (basis).
+    pub method: Method,
+    /// Mapping of the internal force.
+    pub force_mapping: Mapping,
+    /// Mapping of the nodal velocity.
+    pub velocity_mapping: Mapping,
+    /// Mass matrix of the velocity projection.
+    pub mass: MassMatrix,
+    /// Elements or knot spans.
+    pub cells: usize,
+    /// Particles per cell.
+    pub ppc: usize,
+}
