@@ -38,6 +38,7 @@ pub mod scenes;
 pub mod solve;
 pub mod sparse;
 pub mod spline;
+pub mod studies;
 pub mod tables;
 
 pub use error::{Error, Result};

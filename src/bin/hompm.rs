@@ -99,6 +99,42 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run a 1D MPM scene and print the final particle state and diagnostics (MUSL,
+    /// book §4.2.2). Scenes: vibrating-bar, column-self-weight, column-top-load.
+    Run {
+        /// Scene id.
+        scene: String,
+        /// Named parameter set (default: the thesis' set of the scene).
+        #[arg(long)]
+        params: Option<String>,
+        /// mpm, mpm-p2, ddmpm or bsmpm.
+        #[arg(long, default_value = "mpm")]
+        method: String,
+        /// B-spline degree for bsmpm.
+        #[arg(long, default_value_t = 2)]
+        degree: usize,
+        /// direct, tls or cubic-spline.
+        #[arg(long, default_value = "direct")]
+        mapping: String,
+        /// lumped, consistent (Cholesky) or richardson (thesis §7.2, 1e-9).
+        #[arg(long, default_value = "lumped")]
+        mass: String,
+        /// Elements or knot spans.
+        #[arg(long, default_value_t = 16)]
+        cells: usize,
+        /// Particles per cell.
+        #[arg(long, default_value_t = 4)]
+        ppc: usize,
+        /// Time step.
+        #[arg(long, default_value_t = 1e-5, allow_hyphen_values = true)]
+        dt: f64,
+        /// Number of steps.
+        #[arg(long, default_value_t = 100)]
+        steps: usize,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Published and computed values of one table, with deviation and status.
     Table {
         /// Table id (see --list).
@@ -191,6 +227,181 @@ fn basis(degree: usize, knots: &str, at: &str, derivatives: bool, json: bool) ->
             s.push_str(&format!("        dphi = [{}]\n", row.join(", ")));
         }
     }
+    Ok(s)
+}
+
+/// Analytic (u, v, σ) at (X, t), where known.
+type Reference = Box<dyn Fn(f64, f64) -> [Option<f64>; 3]>;
+
+struct RunArgs {
+    scene: String,
+    params: Option<String>,
+    method: String,
+    degree: usize,
+    mapping: String,
+    mass: String,
+    cells: usize,
+    ppc: usize,
+    dt: f64,
+    steps: usize,
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct ParticleJson {
+    x0: Vec<f64>,
+    x: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    stress: Vec<f64>,
+    volume: Vec<f64>,
+    density: Vec<f64>,
+}
+
+#[derive(Serialize)]
+struct RunJson {
+    scene: String,
+    params: serde_json::Value,
+    method: String,
+    mapping: String,
+    mass: String,
+    cells: usize,
+    ppc: usize,
+    dt: f64,
+    steps: usize,
+    time: f64,
+    particles: ParticleJson,
+    diagnostics: serde_json::Value,
+}
+
+fn run_scene(args: RunArgs) -> Result<String> {
+    use hompm::mpm::diagnostics::rms_error;
+    use hompm::mpm::grid::Method;
+    use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+    use hompm::scenes::{column, vibrating_bar, Discretisation};
+    let method = Method::parse(&args.method, args.degree)?;
+    let mapping = Mapping::parse(&args.mapping)?;
+    let mass = match args.mass.as_str() {
+        "lumped" => MassMatrix::Lumped,
+        "consistent" => MassMatrix::Consistent(ConsistentSolver::Cholesky),
+        "richardson" => MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
+        other => {
+            return Err(Error::InvalidArgument(format!(
+                "--mass must be lumped, consistent or richardson, got '{other}'"
+            )))
+        }
+    };
+    if args.dt.is_nan() || args.dt <= 0.0 || args.dt.is_infinite() {
+        return Err(Error::InvalidArgument(format!(
+            "--dt must be positive and finite, got {}",
+            args.dt
+        )));
+    }
+    let d = Discretisation {
+        method,
+        force_mapping: mapping,
+        velocity_mapping: mapping,
+        mass,
+        cells: args.cells,
+        ppc: args.ppc,
+    };
+    let (mut sim, params_json, reference): (_, serde_json::Value, Reference) =
+        match args.scene.as_str() {
+            "vibrating-bar" => {
+                let p = vibrating_bar::parameters(
+                    args.params.as_deref().unwrap_or("thesis-table-4.1"),
+                )?;
+                let small = p.constitutive == hompm::mpm::musl::Constitutive::SmallStrain;
+                (
+                    p.simulation(&d)?,
+                    serde_json::to_value(p).unwrap_or_default(),
+                    Box::new(move |x, t| {
+                        if small {
+                            [
+                                Some(p.displacement(x, t)),
+                                Some(p.velocity(x, t)),
+                                Some(p.stress(x, t)),
+                            ]
+                        } else {
+                            [None, None, None]
+                        }
+                    }),
+                )
+            }
+            "column-self-weight" | "column-top-load" => {
+                let default = if args.scene == "column-self-weight" {
+                    "thesis-table-4.3"
+                } else {
+                    "thesis-table-8.1"
+                };
+                let p = column::parameters(args.params.as_deref().unwrap_or(default))?;
+                let small = p.constitutive == hompm::mpm::musl::Constitutive::SmallStrain;
+                (
+                    p.simulation(&d)?,
+                    serde_json::to_value(p).unwrap_or_default(),
+                    Box::new(move |x, t| {
+                        if small {
+                            [Some(p.displacement(x, t, 200)), None, None]
+                        } else {
+                            [None, None, None]
+                        }
+                    }),
+                )
+            }
+            other => {
+                return Err(Error::InvalidArgument(format!(
+                "scene must be vibrating-bar, column-self-weight or column-top-load, got '{other}' \
+                 (column-compaction is not implemented yet)"
+            )))
+            }
+        };
+    sim.run(args.dt, args.steps)?;
+    let pt = &sim.particles;
+    let mut diagnostics = serde_json::to_value(&sim.diagnostics).unwrap_or_default();
+    let refs: Vec<[Option<f64>; 3]> = pt.x0.iter().map(|&x| reference(x, sim.time)).collect();
+    for (k, (name, field)) in [
+        ("rms_displacement", &pt.u),
+        ("rms_velocity", &pt.v),
+        ("rms_stress", &pt.stress),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let exact: Option<Vec<f64>> = refs.iter().map(|r| r[k]).collect();
+        if let (Some(exact), Some(obj)) = (exact, diagnostics.as_object_mut()) {
+            obj.insert(name.into(), serde_json::json!(rms_error(field, &exact)?));
+        }
+    }
+    let doc = RunJson {
+        scene: args.scene.clone(),
+        params: params_json,
+        method: args.method.clone(),
+        mapping: args.mapping.clone(),
+        mass: args.mass.clone(),
+        cells: args.cells,
+        ppc: args.ppc,
+        dt: args.dt,
+        steps: args.steps,
+        time: sim.time,
+        particles: ParticleJson {
+            x0: pt.x0.clone(),
+            x: pt.x.clone(),
+            u: pt.u.clone(),
+            v: pt.v.clone(),
+            stress: pt.stress.clone(),
+            volume: pt.volume.clone(),
+            density: pt.density.clone(),
+        },
+        diagnostics,
+    };
+    if args.json {
+        return to_json(&doc);
+    }
+    let mut s = format!(
+        "{} ({}), {} with {} mapping and {} mass, {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\n",
+        doc.scene, sim.settings.young, doc.method, doc.mapping, doc.mass, doc.cells, doc.ppc, doc.steps, doc.dt, doc.time
+    );
+    s.push_str(&format!("diagnostics: {}\n", doc.diagnostics));
     Ok(s)
 }
 
@@ -532,6 +743,31 @@ fn main() -> ExitCode {
             json,
         } => basis(degree, &knots, &at, derivatives, json),
         Command::Table { id, list, json } => table(id, list, json),
+        Command::Run {
+            scene,
+            params,
+            method,
+            degree,
+            mapping,
+            mass,
+            cells,
+            ppc,
+            dt,
+            steps,
+            json,
+        } => run_scene(RunArgs {
+            scene,
+            params,
+            method,
+            degree,
+            mapping,
+            mass,
+            cells,
+            ppc,
+            dt,
+            steps,
+            json,
+        }),
         Command::Reconstruct {
             method,
             cells,

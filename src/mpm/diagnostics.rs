@@ -72,6 +72,13 @@ pub struct RunDiagnostics {
     pub min_lumped_mass: f64,
     /// Total iterations of a consistent iterative solver.
     pub solver_iterations: usize,
+    /// min over steps of min_i M_ii / max_i M_ii of the projection's mass
+    /// matrix over active DOFs (near-zero entries, thesis §7.2.4).
+    pub min_mass_diagonal_ratio: f64,
+    /// max over steps of max_i |v_i| of the projected nodal velocities.
+    pub max_nodal_velocity: f64,
+    /// max over steps of max_p |v_p|.
+    pub max_particle_velocity: f64,
     /// Kinetic plus strain energy at the start.
     pub initial_energy: f64,
     /// Kinetic plus strain energy at the end.

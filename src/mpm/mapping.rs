@@ -238,6 +238,8 @@ pub struct Projection {
     pub grid_momentum: f64,
     /// Iterations of the consistent solver (0 for lumped or Cholesky).
     pub solver_iterations: usize,
+    /// min_i M_ii / max_i M_ii over active DOFs.
+    pub diagonal_ratio: f64,
 }
 
 /// Projects the particle velocities (already updated to t + Δt) onto the grid:
@@ -328,6 +330,10 @@ pub fn project_velocity(
     let grid_mass: f64 = lumped.iter().sum();
     // Active DOFs: those the mapped mass reaches.
     let active: Vec<usize> = (0..n).filter(|&i| full.get(i, i) != 0.0).collect();
+    let diag: Vec<f64> = active.iter().map(|&i| full.get(i, i)).collect();
+    let dmax = diag.iter().cloned().fold(0.0, f64::max);
+    let dmin = diag.iter().cloned().fold(f64::INFINITY, f64::min);
+    let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };
     let mut v = vec![0.0; n];
     let mut solver_iterations = 0;
     match mass {
@@ -366,5 +372,6 @@ pub fn project_velocity(
         grid_mass,
         grid_momentum,
         solver_iterations,
+        diagonal_ratio,
     })
 }

@@ -128,6 +128,7 @@ impl ColumnParameters {
             gravity: self.gravity,
             gravity_ramp: None,
             dirichlet: vec![0],
+            consistent_acceleration: false,
         };
         Simulation::new(grid, particles, settings)
     }

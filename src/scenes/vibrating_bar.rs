@@ -154,6 +154,7 @@ impl BarParameters {
             gravity: 0.0,
             gravity_ramp: None,
             dirichlet: vec![0, last],
+            consistent_acceleration: false,
         };
         Simulation::new(grid, particles, settings)
     }
