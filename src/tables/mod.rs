@@ -16,6 +16,7 @@
 //! them.
 
 pub mod book;
+pub mod facts;
 pub mod thesis;
 pub mod tls;
 
@@ -89,6 +90,8 @@ pub enum Tolerance {
     MachinePrecision,
     /// |computed − published| ≤ tol (convergence orders, docs/conventions.md).
     Absolute(f64),
+    /// computed ≥ published (the text says "more than").
+    AtLeast,
 }
 
 impl Tolerance {
@@ -98,6 +101,9 @@ impl Tolerance {
     pub const RMS: Tolerance = Tolerance::Relative(0.02);
     /// Convergence orders log2(e(h)/e(h/2)): ±0.01 (docs/conventions.md).
     pub const ORDER: Tolerance = Tolerance::Absolute(0.01);
+    /// An integer order stated in a paper's text against a fitted slope: ±0.2
+    /// (docs/conventions.md).
+    pub const STATED_ORDER: Tolerance = Tolerance::Absolute(0.2);
 
     /// Whether `computed` reproduces `published`.
     pub fn accepts(self, published: f64, computed: f64) -> bool {
@@ -108,6 +114,7 @@ impl Tolerance {
             Tolerance::Exact => computed == published,
             Tolerance::Relative(tol) => (computed - published).abs() <= tol * published.abs(),
             Tolerance::Absolute(tol) => (computed - published).abs() <= tol,
+            Tolerance::AtLeast => computed >= published,
             Tolerance::MachinePrecision => {
                 let c = computed.abs().max(1e-300);
                 let p = published.abs().max(1e-300);
@@ -273,6 +280,7 @@ pub fn registry() -> Vec<TableSpec> {
     all.extend(tls::tables());
     all.extend(thesis::tables());
     all.push(thesis::appendix_a1());
+    all.push(facts::table());
     all
 }
 
