@@ -7,6 +7,10 @@
 //!          + Σ_n u_n cos(c(2n−1)πt/(2H)) sin((2n−1)πy/(2H)),
 //! u_n = 8H(2πp₀n(−1)ⁿ + 2ρgH − πp₀(−1)ⁿ) / ((4n²−4n+1)(2n−1)π³E),
 //!
+//! The column compaction of TLS paper §6.2 (Table 6) ramps the body force
+//! linearly to b_f over the run; its stress is compared with the equilibrium
+//! stress ρ₀ b(t)(H − X) ([`ColumnParameters::equilibrium_stress`]).
+//!
 //! where g is the *magnitude* 9.81 and the body force points down (the
 //! thesis' tables write g = −9.81 for the vector; docs/conventions.md).
 
@@ -35,10 +39,13 @@ pub struct ColumnParameters {
     pub top_load: f64,
     /// Small- or large-strain update.
     pub constitutive: Constitutive,
+    /// If set, the body force ramps linearly from zero to `gravity` over this
+    /// time (column compaction, TLS paper §6.2).
+    pub ramp_time: Option<f64>,
 }
 
 /// Every parameter set of the seeds.
-pub const PARAMETER_SETS: [ColumnParameters; 3] = [
+pub const PARAMETER_SETS: [ColumnParameters; 4] = [
     ColumnParameters {
         name: "thesis-table-4.3",
         height: 25.0,
@@ -47,6 +54,7 @@ pub const PARAMETER_SETS: [ColumnParameters; 3] = [
         gravity: -9.81,
         top_load: 0.0,
         constitutive: Constitutive::SmallStrain,
+        ramp_time: None,
     },
     ColumnParameters {
         name: "thesis-table-4.4",
@@ -56,6 +64,7 @@ pub const PARAMETER_SETS: [ColumnParameters; 3] = [
         gravity: -9.81,
         top_load: 0.0,
         constitutive: Constitutive::LargeStrain,
+        ramp_time: None,
     },
     ColumnParameters {
         name: "thesis-table-8.1",
@@ -65,6 +74,17 @@ pub const PARAMETER_SETS: [ColumnParameters; 3] = [
         gravity: 0.0,
         top_load: -1.0e4,
         constitutive: Constitutive::LargeStrain,
+        ramp_time: None,
+    },
+    ColumnParameters {
+        name: "tls-table-6",
+        height: 50.0,
+        density: 1.0,
+        young: 1.0e6,
+        gravity: -200.0,
+        top_load: 0.0,
+        constitutive: Constitutive::LargeStrain,
+        ramp_time: Some(0.5),
     },
 ];
 
@@ -106,6 +126,19 @@ impl ColumnParameters {
         u
     }
 
+    /// The quasi-static equilibrium stress of a column under a body force:
+    /// σ(X, t) = ρ₀ g(t) (H − X) in the reference configuration, g(t) ramped
+    /// if the set has a ramp. In 1D the column is statically determinate, so
+    /// this holds for any constitutive law once inertia is negligible (the
+    /// compaction ramp lasts ten wave transits H/c). TLS paper §6.2, Fig. 10.
+    pub fn equilibrium_stress(&self, x0: f64, t: f64) -> f64 {
+        let g = match self.ramp_time {
+            Some(tr) if tr > 0.0 => self.gravity * (t / tr).min(1.0),
+            _ => self.gravity,
+        };
+        self.density * g * (self.height - x0) + self.top_load
+    }
+
     /// The simulation: `cells·ppc` particles at centres of equal sub-intervals,
     /// bottom DOF fixed, the top load applied as a traction on the top particle
     /// (thesis §3.2: "particles initially located next to the boundary").
@@ -126,7 +159,7 @@ impl ColumnParameters {
             constitutive: self.constitutive,
             young: self.young,
             gravity: self.gravity,
-            gravity_ramp: None,
+            gravity_ramp: self.ramp_time,
             dirichlet: vec![0],
             consistent_acceleration: false,
         };

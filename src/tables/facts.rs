@@ -59,6 +59,11 @@ fn compute(quick: bool) -> Result<Computed> {
     } else {
         bar_run("book-table-4.1-large", 20, 8, 1e-5, 10_000)?
     };
+    let compaction = if quick {
+        None
+    } else {
+        Some(super::tls::compaction(Method::Mpm, Mapping::Direct)?)
+    };
     let values: Vec<Option<f64>> = vec![
         Some(middle(25.0)?),
         Some(middle(1.0)?),
@@ -75,8 +80,12 @@ fn compute(quick: bool) -> Result<Computed> {
         (!quick).then_some(u_large),
         (!quick).then_some(x_tls as f64),
         (!quick).then_some(x_book as f64),
-        None,
-        None,
+        (!quick)
+            .then(|| compaction.map(|c| c.crossings as f64))
+            .flatten(),
+        (!quick)
+            .then(|| compaction.map(|c| c.max_displacement))
+            .flatten(),
     ];
     Ok(Computed {
         values: values.into_iter().map(|v| vec![v]).collect(),
@@ -87,8 +96,8 @@ fn compute(quick: bool) -> Result<Computed> {
             "Maximum strains are the analytic amplitudes the text's parameters imply: v0/c for the bar, \
              ρ|g|H/E (static) for the column; the dynamic column peaks at about twice that."
                 .into(),
-            "Column compaction (rows 16–17) is not implemented: its Bardenhagen–Kober solution is not \
-             given in the seeds."
+            "Column compaction (rows 16–17): standard MPM run of tls-fig10; the 'maximal strain' is the \
+             maximal |u_p| at the end of the run."
                 .into(),
         ],
     })
@@ -106,6 +115,7 @@ pub fn table() -> TableSpec {
             2..=6 => Tolerance::Relative(0.005),
             7..=10 => Tolerance::Absolute(0.005),
             11 | 12 | 16 => Tolerance::Relative(0.02),
+            15 => Tolerance::Exact,
             13 | 14 => Tolerance::AtLeast,
             _ => Tolerance::Exact,
         },
