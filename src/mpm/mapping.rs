@@ -253,12 +253,23 @@ pub fn project_velocity(
 ) -> Result<Projection> {
     let n = grid.num_dofs();
     let mut p = vec![0.0; n];
+    // Row sums and diagonal are accumulated directly (partition of unity:
+    // Σ_b φ_b = 1, so the row sum of ρw φ_a φ_b is ρw φ_a); the full matrix is
+    // only assembled when the consistent system is solved.
+    let consistent = matches!(mass, MassMatrix::Consistent(_));
     let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
+    let mut lumped = vec![0.0; n];
+    let mut diagonal = vec![0.0; n];
     let mut add = |s: &Shape, rho_w: f64, mom_w: f64, p: &mut Vec<f64>| {
+        let sum: f64 = s.values.iter().sum();
         for (a, &fa) in s.values.iter().enumerate() {
             p[s.first + a] += mom_w * fa;
-            for (b, &fb) in s.values.iter().enumerate() {
-                triplets.push((s.first + a, s.first + b, rho_w * fa * fb));
+            lumped[s.first + a] += rho_w * fa * sum;
+            diagonal[s.first + a] += rho_w * fa * fa;
+            if consistent {
+                for (b, &fb) in s.values.iter().enumerate() {
+                    triplets.push((s.first + a, s.first + b, rho_w * fa * fb));
+                }
             }
         }
     };
@@ -326,11 +337,10 @@ pub fn project_velocity(
         }
     }
     let full = SparseMatrix::from_triplets(n, n, &triplets)?;
-    let lumped = full.row_sums();
     let grid_mass: f64 = lumped.iter().sum();
     // Active DOFs: those the mapped mass reaches.
-    let active: Vec<usize> = (0..n).filter(|&i| full.get(i, i) != 0.0).collect();
-    let diag: Vec<f64> = active.iter().map(|&i| full.get(i, i)).collect();
+    let active: Vec<usize> = (0..n).filter(|&i| diagonal[i] != 0.0).collect();
+    let diag: Vec<f64> = active.iter().map(|&i| diagonal[i]).collect();
     let dmax = diag.iter().cloned().fold(0.0, f64::max);
     let dmin = diag.iter().cloned().fold(f64::INFINITY, f64::min);
     let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };

@@ -304,6 +304,16 @@ pub fn run(spec: &TableSpec, options: &RunOptions) -> Result<TableReport> {
     compare(spec, &published, computed)
 }
 
+/// A published value at rounding level (|p| ≤ 1e-13) is noise: a relative
+/// tolerance on it is meaningless, so it is judged by the machine-precision
+/// rule whatever its row's kind (docs/conventions.md).
+pub fn effective_tolerance(kind: Tolerance, published: f64) -> Tolerance {
+    match kind {
+        Tolerance::Relative(_) if published.abs() <= 1e-13 => Tolerance::MachinePrecision,
+        other => other,
+    }
+}
+
 /// Builds the report from published and computed grids.
 pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> Result<TableReport> {
     let rows = published.row_labels.len();
@@ -320,7 +330,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         for c in 0..cols {
             if let (Some(p), Some(v)) = (published.values[r][c], computed.values[r][c]) {
                 deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
-                status[r][c] = if (spec.tolerance)(r, c).accepts(p, v) {
+                status[r][c] = if effective_tolerance((spec.tolerance)(r, c), p).accepts(p, v) {
                     Status::Reproduced
                 } else {
                     Status::Deviates
