@@ -49,6 +49,9 @@ pub enum Error {
     /// A table id that is not registered.
     #[error("unknown table id '{0}' (see `hompm table --list`)")]
     UnknownTable(String),
+    /// A file that cannot be written or read (report output, baselines).
+    #[error("i/o: {0}")]
+    Io(String),
     /// A published-number file that cannot be read.
     #[error("published data {id}: {message}")]
     Published {

@@ -33,6 +33,7 @@ pub mod mass;
 pub mod mpm;
 pub mod quadrature;
 pub mod reconstruct;
+pub mod report;
 pub mod rng;
 pub mod scenes;
 pub mod solve;

@@ -171,3 +171,229 @@ pub fn bar_errors(params: &str, d: &Discretisation, dt: f64, steps: usize) -> Re
         particle_steps_per_second: (sim.particles.len() * steps) as f64 / seconds.max(1e-12),
     })
 }
+
+use crate::mpm::mapping::ConsistentSolver;
+use crate::solve::cg::{conjugate_gradient, CgVariant};
+use crate::solve::direct::cholesky_solve;
+use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
+use crate::solve::spectrum::spectrum_kronecker;
+
+/// A method of the work-precision chart: label and discretisation maker.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Variant {
+    /// Legend label.
+    pub label: &'static str,
+    /// Basis.
+    pub method: Method,
+    /// Mapping of force and velocity.
+    pub mapping: Mapping,
+    /// Mass of the velocity projection.
+    pub mass: MassMatrix,
+}
+
+/// The variants compared in the work-precision chart.
+pub fn work_precision_variants() -> Vec<Variant> {
+    let chol = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let rich = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    vec![
+        Variant {
+            label: "MPM",
+            method: Method::Mpm,
+            mapping: Mapping::Direct,
+            mass: MassMatrix::Lumped,
+        },
+        Variant {
+            label: "MPM + TLS (consistent)",
+            method: Method::Mpm,
+            mapping: Mapping::Tls,
+            mass: chol,
+        },
+        Variant {
+            label: "DDMPM",
+            method: Method::Ddmpm,
+            mapping: Mapping::Direct,
+            mass: MassMatrix::Lumped,
+        },
+        Variant {
+            label: "DDMPM + TLS (consistent)",
+            method: Method::Ddmpm,
+            mapping: Mapping::Tls,
+            mass: chol,
+        },
+        Variant {
+            label: "BSMPM",
+            method: Method::Bsmpm { degree: 2 },
+            mapping: Mapping::Direct,
+            mass: MassMatrix::Lumped,
+        },
+        Variant {
+            label: "BSMPM + TLS (lumped)",
+            method: Method::Bsmpm { degree: 2 },
+            mapping: Mapping::Tls,
+            mass: MassMatrix::Lumped,
+        },
+        Variant {
+            label: "BSMPM + TLS (consistent)",
+            method: Method::Bsmpm { degree: 2 },
+            mapping: Mapping::Tls,
+            mass: chol,
+        },
+        Variant {
+            label: "BSMPM + CS (Richardson)",
+            method: Method::Bsmpm { degree: 2 },
+            mapping: Mapping::CubicSpline,
+            mass: rich,
+        },
+    ]
+}
+
+/// One point of the work-precision chart.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WorkPoint {
+    /// Variant label.
+    pub label: &'static str,
+    /// Cells.
+    pub cells: usize,
+    /// RMS displacement error at t = 1999·1e-5 s.
+    pub error: f64,
+    /// Wall time of the run, seconds.
+    pub seconds: f64,
+}
+
+/// Error against wall time for every variant on the thesis' bar (Table 4.1,
+/// 4 PPC, 1999 steps of 1e-5 s), one point per resolution. Runs are timed
+/// one after the other (no parallel runs distort the clock).
+pub fn work_precision(resolutions: &[usize]) -> Result<Vec<WorkPoint>> {
+    let mut out = Vec::new();
+    for v in work_precision_variants() {
+        for &cells in resolutions {
+            let d = Discretisation {
+                method: v.method,
+                force_mapping: v.mapping,
+                velocity_mapping: v.mapping,
+                mass: v.mass,
+                cells,
+                ppc: 4,
+            };
+            let e = bar_errors("thesis-table-4.1", &d, 1e-5, 1999)?;
+            out.push(WorkPoint {
+                label: v.label,
+                cells,
+                error: e.displacement,
+                seconds: e.seconds,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// One row of the solver study (book §4.6–4.7 beyond the published tables).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SolverPoint {
+    /// Degree p.
+    pub degree: usize,
+    /// 1/h.
+    pub spans: usize,
+    /// 2D DOFs (n + p − 2)².
+    pub dofs: usize,
+    /// κ of the 2D Dirichlet mass matrix.
+    pub condition_number: f64,
+    /// CG iterations to 1e-8 (None if not run).
+    pub cg_iterations: Option<usize>,
+    /// CG wall time, seconds.
+    pub cg_seconds: Option<f64>,
+    /// p-multigrid V-cycles (book setting).
+    pub pmg_cycles: Option<usize>,
+    /// p-multigrid wall time including the hierarchy set-up, seconds.
+    pub pmg_seconds: Option<f64>,
+    /// Sparse Cholesky wall time (factor and solve), seconds.
+    pub cholesky_seconds: Option<f64>,
+}
+
+/// κ, CG, p-multigrid and Cholesky for the book's 2D mass matrix at each
+/// (p, 1/h); iterative solves up to `max_iterative_dofs` DOFs, Cholesky up to
+/// `max_direct_dofs`.
+pub fn solver_study(
+    degrees: &[usize],
+    spans: &[usize],
+    max_iterative_dofs: usize,
+    max_direct_dofs: usize,
+) -> Result<Vec<SolverPoint>> {
+    let mut out = Vec::new();
+    for &p in degrees {
+        for &n in spans {
+            let m1 = {
+                let kv = crate::spline::KnotVector::open_uniform(0.0, 1.0, n, p)?;
+                crate::mass::with_dirichlet(&crate::mass::consistent_mass_constant(&kv, 1.0)?)
+            };
+            let k = crate::mass::Kronecker2d::new(m1.clone(), m1);
+            let dofs = k.rows();
+            let kappa = spectrum_kronecker(&k)?.condition_number();
+            let mut pt = SolverPoint {
+                degree: p,
+                spans: n,
+                dofs,
+                condition_number: kappa,
+                cg_iterations: None,
+                cg_seconds: None,
+                pmg_cycles: None,
+                pmg_seconds: None,
+                cholesky_seconds: None,
+            };
+            if dofs <= max_iterative_dofs {
+                let a = k.assemble();
+                let ones = vec![-9.81; dofs];
+                let mut f = vec![0.0; dofs];
+                a.mul_vec(&ones, &mut f);
+                let t = std::time::Instant::now();
+                let cg = conjugate_gradient(&a, &f, 1e-8, 100_000, CgVariant::Recursive)?;
+                pt.cg_seconds = Some(t.elapsed().as_secs_f64());
+                pt.cg_iterations = Some(cg.iterations);
+                let t = std::time::Instant::now();
+                let mg = PMultigrid::unit_mass(n, p, 2, true, PMultigridOptions::default())?;
+                let r = mg.solve(&f, 1e-8, 10_000);
+                pt.pmg_seconds = Some(t.elapsed().as_secs_f64());
+                pt.pmg_cycles = r.ok().map(|r| r.iterations);
+                if dofs <= max_direct_dofs {
+                    let t = std::time::Instant::now();
+                    cholesky_solve(&a, &f)?;
+                    pt.cholesky_seconds = Some(t.elapsed().as_secs_f64());
+                }
+            }
+            out.push(pt);
+        }
+    }
+    Ok(out)
+}
+
+/// One entry of the stability map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityPoint {
+    /// Method label.
+    pub method: String,
+    /// Largest stable Courant number with lumped acceleration.
+    pub lumped: f64,
+    /// With consistent acceleration.
+    pub consistent: f64,
+}
+
+/// Critical Courant numbers for the bases of the seeds (16 cells, 4 PPC).
+pub fn stability_map(cells: usize) -> Result<Vec<StabilityPoint>> {
+    let methods = [
+        Method::Mpm,
+        Method::Ddmpm,
+        Method::MpmP2,
+        Method::Bsmpm { degree: 2 },
+        Method::Bsmpm { degree: 3 },
+    ];
+    methods
+        .iter()
+        .map(|&m| {
+            Ok(StabilityPoint {
+                method: m.label(),
+                lumped: critical_courant(m, false, cells, 4)?,
+                consistent: critical_courant(m, true, cells, 4)?,
+            })
+        })
+        .collect()
+}

@@ -146,14 +146,26 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Run every registered table and print how many published numbers reproduce.
+    /// Run every registered table and the studies; write report.md, report.json,
+    /// reproduction.md and charts; exit non-zero if a number marked reproduced in
+    /// golden/reproduced.json no longer reproduces.
     Reproduce {
-        /// Only these table ids.
+        /// Output directory.
+        #[arg(long, default_value = "target/hompm-report")]
+        out: std::path::PathBuf,
+        /// Only these table ids (studies and charts are skipped).
         #[arg(long, num_args = 1..)]
         only: Vec<String>,
         /// Reduced sizes (smoke test).
         #[arg(long)]
         quick: bool,
+        /// Also write the generated reproduction status to this path
+        /// (docs/reproduction.md in the repository).
+        #[arg(long)]
+        docs: Option<std::path::PathBuf>,
+        /// Write the reproduced cells to golden/reproduced.json (a reviewed change).
+        #[arg(long)]
+        update_baseline: bool,
     },
 }
 
@@ -689,24 +701,135 @@ fn table(id: Option<String>, list: bool, json: bool) -> Result<String> {
     }
 }
 
-fn reproduce(only: Vec<String>, quick: bool) -> Result<String> {
+fn reproduce(
+    out: std::path::PathBuf,
+    only: Vec<String>,
+    quick: bool,
+    docs: Option<std::path::PathBuf>,
+    update_baseline: bool,
+) -> Result<String> {
+    use hompm::report;
+    use std::io::IsTerminal;
     let options = RunOptions { quick };
-    let mut s = String::new();
-    let (mut rep, mut total) = (0, 0);
-    for spec in tables::registry() {
-        if !only.is_empty() && !only.iter().any(|o| o == spec.id) {
-            continue;
-        }
-        let report = tables::run(&spec, &options)?;
-        let (r, t) = report.counts();
-        s.push_str(&format!("{:<20} {r:>4} of {t:>4} reproduced\n", spec.id));
-        rep += r;
-        total += t;
-    }
     for o in &only {
         tables::find(o)?;
     }
-    s.push_str(&format!("{rep} of {total} published numbers reproduced\n"));
+    let ids: Vec<&str> = tables::ids()
+        .into_iter()
+        .filter(|id| only.is_empty() || only.iter().any(|o| o == id))
+        .collect();
+    let terminal = std::io::stderr().is_terminal();
+    let bar = indicatif::ProgressBar::new(ids.len() as u64);
+    if terminal {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} tables  {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+    } else {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let progress = |id: &str, secs: f64| {
+        let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+        if terminal {
+            bar.set_message(format!("{id} ({secs:.1} s)"));
+            bar.inc(1);
+        } else {
+            eprintln!("[{k}/{}] {id} ({secs:.1} s)", ids.len());
+        }
+    };
+    let reports = report::run_tables(&ids, options, &progress)?;
+    bar.finish_and_clear();
+    let mut studies = std::collections::BTreeMap::new();
+    let charts = out.join("charts");
+    if only.is_empty() {
+        for (name, step) in [
+            ("convergence", 0),
+            ("work-precision", 1),
+            ("solvers", 2),
+            ("stability", 3),
+        ] {
+            let t = std::time::Instant::now();
+            match step {
+                0 => report::convergence_charts(&charts, &mut studies)?,
+                1 => report::work_precision_chart(&charts, quick, &mut studies)?,
+                2 => report::solver_charts(&charts, &reports, quick, &mut studies)?,
+                _ => report::stability_chart(&charts, quick, &mut studies)?,
+            }
+            eprintln!("study {name} ({:.1} s)", t.elapsed().as_secs_f64());
+        }
+    }
+    let built = report::build(
+        reports,
+        &report::ReproduceOptions {
+            out: out.clone(),
+            only: only.clone(),
+            quick,
+        },
+        studies,
+    )?;
+    if let Some(path) = docs {
+        report::write_file(
+            &path,
+            &report::reproduction_markdown(
+                &built,
+                include_str!("../../docs/reproduction-notes.md"),
+            ),
+        )?;
+    }
+    let baseline: report::Baseline =
+        serde_json::from_str(include_str!("../../golden/reproduced.json")).map_err(|e| {
+            Error::Published {
+                id: "reproduced.json".into(),
+                message: e.to_string(),
+            }
+        })?;
+    if update_baseline {
+        let mut merged = baseline.clone();
+        merged.extend(report::baseline_of(&built.tables));
+        let text = serde_json::to_string_pretty(&merged).map_err(|e| Error::Io(e.to_string()))?;
+        report::write_file(
+            std::path::Path::new("golden/reproduced.json"),
+            &(text + "\n"),
+        )?;
+    }
+    let mut s = String::new();
+    for r in &built.tables {
+        let (rep, total) = r.counts();
+        s.push_str(&format!("{:<20} {rep:>4} of {total:>4} reproduced\n", r.id));
+    }
+    s.push_str(&format!("report written to {}\n", out.display()));
+    s.push_str(&format!(
+        "{} of {} published numbers reproduced\n",
+        built.reproduced, built.published_in_computed_tables
+    ));
+    // With --quick, cells that are not computed are skipped, not regressions.
+    let tables_for_check: Vec<tables::TableReport> = built
+        .tables
+        .iter()
+        .cloned()
+        .map(|mut r| {
+            if quick {
+                for (i, row) in r.computed.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        if v.is_none() {
+                            r.status[i][j] = tables::Status::Reproduced;
+                        }
+                    }
+                }
+            }
+            r
+        })
+        .collect();
+    let regressed = report::regressions(&tables_for_check, &baseline);
+    if !regressed.is_empty() && !update_baseline {
+        print(&s);
+        return Err(Error::InvalidArgument(format!(
+            "{} published numbers marked reproduced no longer reproduce: {}",
+            regressed.len(),
+            regressed.join("; ")
+        )));
+    }
     Ok(s)
 }
 
@@ -806,7 +929,13 @@ fn main() -> ExitCode {
             tol,
             json,
         }),
-        Command::Reproduce { only, quick } => reproduce(only, quick),
+        Command::Reproduce {
+            out,
+            only,
+            quick,
+            docs,
+            update_baseline,
+        } => reproduce(out, only, quick, docs, update_baseline),
     };
     match result {
         Ok(out) => {
