@@ -45,96 +45,13 @@ enum Command {
     },
     /// Mass matrix of degree p on N uniform spans of [0,1] (ρ = 1): size, spectrum and a
     /// solve of M a = M·(−9.81·1). Book Eqs. (4.2), (4.53)–(4.62); thesis §7.2.
-    Mass {
-        /// Polynomial degree p.
-        #[arg(long)]
-        degree: usize,
-        /// Number of knot spans per direction.
-        #[arg(long)]
-        spans: usize,
-        /// Dimension: 1, or 2 for the tensor-product matrix.
-        #[arg(long, default_value_t = 1)]
-        dim: usize,
-        /// Remove the first and last function per direction.
-        #[arg(long)]
-        dirichlet: bool,
-        /// Compute λ_min, λ_max and κ.
-        #[arg(long)]
-        condition: bool,
-        /// Solve with cg, pmg, richardson or direct.
-        #[arg(long)]
-        solve: Option<String>,
-        /// Relative tolerance of the iterative solvers.
-        #[arg(long, default_value_t = 1e-8)]
-        tol: f64,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Mass(MassArgs),
     /// Reconstruct a function from scattered data: TLS (book Eqs. 4.26-4.37), cubic splines
     /// (thesis §7.1) or MLS (MLS paper Eqs. 6-17). Prints values at --at, cell integrals and κ(D).
-    Reconstruct {
-        /// tls, tls-conservative, cubic-spline (not-a-knot), cubic-spline-natural or mls.
-        #[arg(long)]
-        method: String,
-        /// Cell boundaries a,b,c,... (consecutive cells [a,b], [b,c], ...).
-        #[arg(long, allow_hyphen_values = true)]
-        cells: String,
-        /// Data abscissae.
-        #[arg(long, allow_hyphen_values = true)]
-        points: String,
-        /// Data values.
-        #[arg(long, allow_hyphen_values = true)]
-        values: String,
-        /// Integral to conserve in each cell (tls-conservative).
-        #[arg(long, allow_hyphen_values = true)]
-        integrals: Option<String>,
-        /// Number of Taylor basis functions n_b.
-        #[arg(long, default_value_t = 3)]
-        order: usize,
-        /// Query points.
-        #[arg(long, allow_hyphen_values = true)]
-        at: String,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Reconstruct(ReconstructArgs),
     /// Run a 1D MPM scene and print the final particle state and diagnostics (MUSL,
     /// book §4.2.2). Scenes: vibrating-bar, column-self-weight, column-top-load.
-    Run {
-        /// Scene id.
-        scene: String,
-        /// Named parameter set (default: the thesis' set of the scene).
-        #[arg(long)]
-        params: Option<String>,
-        /// mpm, mpm-p2, ddmpm or bsmpm.
-        #[arg(long, default_value = "mpm")]
-        method: String,
-        /// B-spline degree for bsmpm.
-        #[arg(long, default_value_t = 2)]
-        degree: usize,
-        /// direct, tls or cubic-spline.
-        #[arg(long, default_value = "direct")]
-        mapping: String,
-        /// lumped, consistent (Cholesky) or richardson (thesis §7.2, 1e-9).
-        #[arg(long, default_value = "lumped")]
-        mass: String,
-        /// Elements or knot spans.
-        #[arg(long, default_value_t = 16)]
-        cells: usize,
-        /// Particles per cell.
-        #[arg(long, default_value_t = 4)]
-        ppc: usize,
-        /// Time step.
-        #[arg(long, default_value_t = 1e-5, allow_hyphen_values = true)]
-        dt: f64,
-        /// Number of steps.
-        #[arg(long, default_value_t = 100)]
-        steps: usize,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Run(RunArgs),
     /// Published and computed values of one table, with deviation and status.
     Table {
         /// Table id (see --list).
@@ -167,6 +84,101 @@ enum Command {
         #[arg(long)]
         update_baseline: bool,
     },
+}
+
+/// Arguments of `hompm run`.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Scene id.
+    scene: String,
+    /// Named parameter set (default: the thesis' set of the scene).
+    #[arg(long)]
+    params: Option<String>,
+    /// mpm, mpm-p2, ddmpm or bsmpm.
+    #[arg(long, default_value = "mpm")]
+    method: String,
+    /// B-spline degree for bsmpm.
+    #[arg(long, default_value_t = 2)]
+    degree: usize,
+    /// direct, tls or cubic-spline.
+    #[arg(long, default_value = "direct")]
+    mapping: String,
+    /// lumped, consistent (Cholesky) or richardson (thesis §7.2, 1e-9).
+    #[arg(long, default_value = "lumped")]
+    mass: String,
+    /// Elements or knot spans.
+    #[arg(long, default_value_t = 16)]
+    cells: usize,
+    /// Particles per cell.
+    #[arg(long, default_value_t = 4)]
+    ppc: usize,
+    /// Time step.
+    #[arg(long, default_value_t = 1e-5, allow_hyphen_values = true)]
+    dt: f64,
+    /// Number of steps.
+    #[arg(long, default_value_t = 100)]
+    steps: usize,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `hompm mass`.
+#[derive(clap::Args)]
+struct MassArgs {
+    /// Polynomial degree p.
+    #[arg(long)]
+    degree: usize,
+    /// Number of knot spans per direction.
+    #[arg(long)]
+    spans: usize,
+    /// Dimension: 1, or 2 for the tensor-product matrix.
+    #[arg(long, default_value_t = 1)]
+    dim: usize,
+    /// Remove the first and last function per direction.
+    #[arg(long)]
+    dirichlet: bool,
+    /// Compute λ_min, λ_max and κ.
+    #[arg(long)]
+    condition: bool,
+    /// Solve with cg, pmg, richardson or direct.
+    #[arg(long)]
+    solve: Option<String>,
+    /// Relative tolerance of the iterative solvers.
+    #[arg(long, default_value_t = 1e-8)]
+    tol: f64,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `hompm reconstruct`.
+#[derive(clap::Args)]
+struct ReconstructArgs {
+    /// tls, tls-conservative, cubic-spline (not-a-knot), cubic-spline-natural or mls.
+    #[arg(long)]
+    method: String,
+    /// Cell boundaries a,b,c,... (consecutive cells [a,b], [b,c], ...).
+    #[arg(long, allow_hyphen_values = true)]
+    cells: String,
+    /// Data abscissae.
+    #[arg(long, allow_hyphen_values = true)]
+    points: String,
+    /// Data values.
+    #[arg(long, allow_hyphen_values = true)]
+    values: String,
+    /// Integral to conserve in each cell (tls-conservative).
+    #[arg(long, allow_hyphen_values = true)]
+    integrals: Option<String>,
+    /// Number of Taylor basis functions n_b.
+    #[arg(long, default_value_t = 3)]
+    order: usize,
+    /// Query points.
+    #[arg(long, allow_hyphen_values = true)]
+    at: String,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 fn parse_list(what: &str, text: &str) -> Result<Vec<f64>> {
@@ -244,20 +256,6 @@ fn basis(degree: usize, knots: &str, at: &str, derivatives: bool, json: bool) ->
 
 /// Analytic (u, v, σ) at (X, t), where known.
 type Reference = Box<dyn Fn(f64, f64) -> [Option<f64>; 3]>;
-
-struct RunArgs {
-    scene: String,
-    params: Option<String>,
-    method: String,
-    degree: usize,
-    mapping: String,
-    mass: String,
-    cells: usize,
-    ppc: usize,
-    dt: f64,
-    steps: usize,
-    json: bool,
-}
 
 #[derive(Serialize)]
 struct ParticleJson {
@@ -417,17 +415,6 @@ fn run_scene(args: RunArgs) -> Result<String> {
     Ok(s)
 }
 
-struct ReconstructArgs {
-    method: String,
-    cells: String,
-    points: String,
-    values: String,
-    integrals: Option<String>,
-    order: usize,
-    at: String,
-    json: bool,
-}
-
 #[derive(Serialize)]
 struct ReconstructJson {
     method: String,
@@ -554,17 +541,6 @@ fn reconstruct(args: ReconstructArgs) -> Result<String> {
         s.push('\n');
     }
     Ok(s)
-}
-
-struct MassArgs {
-    degree: usize,
-    spans: usize,
-    dim: usize,
-    dirichlet: bool,
-    condition: bool,
-    solve: Option<String>,
-    tol: f64,
-    json: bool,
 }
 
 #[derive(Serialize)]
@@ -866,69 +842,9 @@ fn main() -> ExitCode {
             json,
         } => basis(degree, &knots, &at, derivatives, json),
         Command::Table { id, list, json } => table(id, list, json),
-        Command::Run {
-            scene,
-            params,
-            method,
-            degree,
-            mapping,
-            mass,
-            cells,
-            ppc,
-            dt,
-            steps,
-            json,
-        } => run_scene(RunArgs {
-            scene,
-            params,
-            method,
-            degree,
-            mapping,
-            mass,
-            cells,
-            ppc,
-            dt,
-            steps,
-            json,
-        }),
-        Command::Reconstruct {
-            method,
-            cells,
-            points,
-            values,
-            integrals,
-            order,
-            at,
-            json,
-        } => reconstruct(ReconstructArgs {
-            method,
-            cells,
-            points,
-            values,
-            integrals,
-            order,
-            at,
-            json,
-        }),
-        Command::Mass {
-            degree,
-            spans,
-            dim,
-            dirichlet,
-            condition,
-            solve,
-            tol,
-            json,
-        } => mass(MassArgs {
-            degree,
-            spans,
-            dim,
-            dirichlet,
-            condition,
-            solve,
-            tol,
-            json,
-        }),
+        Command::Run(args) => run_scene(args),
+        Command::Reconstruct(args) => reconstruct(args),
+        Command::Mass(args) => mass(args),
         Command::Reproduce {
             out,
             only,

@@ -90,17 +90,7 @@ pub const PARAMETER_SETS: [ColumnParameters; 4] = [
 
 /// Looks up a parameter set by name.
 pub fn parameters(name: &str) -> Result<ColumnParameters> {
-    PARAMETER_SETS
-        .iter()
-        .copied()
-        .find(|p| p.name == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = PARAMETER_SETS.iter().map(|p| p.name).collect();
-            Error::InvalidArgument(format!(
-                "unknown column parameter set '{name}' (known: {})",
-                names.join(", ")
-            ))
-        })
+    super::find_set(&PARAMETER_SETS, |p| p.name, name, "column")
 }
 
 impl ColumnParameters {

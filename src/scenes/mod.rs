@@ -32,3 +32,22 @@ pub struct Discretisation {
     /// Particles per cell.
     pub ppc: usize,
 }
+
+/// Finds the parameter set called `name` among `sets`, or names the known ones.
+pub(crate) fn find_set<T: Copy>(
+    sets: &[T],
+    name_of: fn(&T) -> &'static str,
+    name: &str,
+    scene: &str,
+) -> crate::Result<T> {
+    sets.iter()
+        .copied()
+        .find(|p| name_of(p) == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = sets.iter().map(name_of).collect();
+            crate::Error::InvalidArgument(format!(
+                "unknown {scene} parameter set '{name}' (known: {})",
+                names.join(", ")
+            ))
+        })
+}

@@ -89,17 +89,7 @@ pub const PARAMETER_SETS: [BarParameters; 6] = [
 
 /// Looks up a parameter set by name.
 pub fn parameters(name: &str) -> Result<BarParameters> {
-    PARAMETER_SETS
-        .iter()
-        .copied()
-        .find(|p| p.name == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = PARAMETER_SETS.iter().map(|p| p.name).collect();
-            Error::InvalidArgument(format!(
-                "unknown vibrating-bar parameter set '{name}' (known: {})",
-                names.join(", ")
-            ))
-        })
+    super::find_set(&PARAMETER_SETS, |p| p.name, name, "vibrating-bar")
 }
 
 impl BarParameters {

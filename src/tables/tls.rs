@@ -258,6 +258,23 @@ pub fn conservation_errors_for(
     ))
 }
 
+/// The rows of a conservation table (TLS paper Tables 3, 5, 7): for the
+/// cubic-spline and the TLS mapping, (Error_M, Error_P) of MPM, DDMPM and BSMPM.
+fn conservation_rows(
+    run: impl Fn(Method, Mapping) -> Result<(f64, f64)> + Sync,
+) -> Result<Vec<Vec<Option<f64>>>> {
+    let methods = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
+    let mut rows = Vec::new();
+    for mapping in [Mapping::CubicSpline, Mapping::Tls] {
+        let errs: Vec<(f64, f64)> = methods
+            .par_iter()
+            .map(|&m| run(m, mapping))
+            .collect::<Result<_>>()?;
+        rows.push(errs.iter().flat_map(|&(a, b)| [Some(a), Some(b)]).collect());
+    }
+    Ok(rows)
+}
+
 fn tls_3() -> TableSpec {
     TableSpec {
         id: "tls-3",
@@ -270,15 +287,7 @@ fn tls_3() -> TableSpec {
                 quadratic, 2 Gauss points per element; cubic spline: not-a-knot, thesis half-span rule.",
         tolerance: |r, _| if r == 1 { Tolerance::MachinePrecision } else { Tolerance::RMS },
         compute: |_| {
-            let methods = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
-            let mut rows = Vec::new();
-            for mapping in [Mapping::CubicSpline, Mapping::Tls] {
-                let errs: Vec<(f64, f64)> = methods
-                    .par_iter()
-                    .map(|&m| conservation_errors(m, mapping, 40, 12))
-                    .collect::<Result<_>>()?;
-                rows.push(errs.iter().flat_map(|&(a, b)| [Some(a), Some(b)]).collect());
-            }
+            let rows = conservation_rows(|m, map| conservation_errors(m, map, 40, 12))?;
             Ok(Computed {
                 values: rows,
                 notes: vec![
@@ -516,19 +525,9 @@ fn tls_7() -> TableSpec {
                     notes: vec!["not computed with --quick".into()],
                 });
             }
-            let methods = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
-            let mut values = Vec::new();
-            for mapping in [Mapping::CubicSpline, Mapping::Tls] {
-                let runs: Vec<CompactionRun> = methods
-                    .par_iter()
-                    .map(|&m| compaction(m, mapping))
-                    .collect::<Result<_>>()?;
-                values.push(
-                    runs.iter()
-                        .flat_map(|r| [Some(r.mass_error), Some(r.momentum_error)])
-                        .collect(),
-                );
-            }
+            let values = conservation_rows(|m, map| {
+                compaction(m, map).map(|r| (r.mass_error, r.momentum_error))
+            })?;
             Ok(Computed {
                 values,
                 notes: vec![],
@@ -546,15 +545,7 @@ fn tls_5() -> TableSpec {
                 error measures and mappings as tls-3, consistent mass.",
         tolerance: |r, _| if r == 1 { Tolerance::MachinePrecision } else { Tolerance::RMS },
         compute: |_| {
-            let methods = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
-            let mut rows = Vec::new();
-            for mapping in [Mapping::CubicSpline, Mapping::Tls] {
-                let errs: Vec<(f64, f64)> = methods
-                    .par_iter()
-                    .map(|&m| conservation_errors_for("tls-table-4", m, mapping, 20, 8, 1e-4, 1000))
-                    .collect::<Result<_>>()?;
-                rows.push(errs.iter().flat_map(|&(a, b)| [Some(a), Some(b)]).collect());
-            }
+            let rows = conservation_rows(|m, map| conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000))?;
             Ok(Computed { values: rows, notes: vec![] })
         },
     }
