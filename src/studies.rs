@@ -30,14 +30,7 @@ pub fn is_stable(
     courant: f64,
 ) -> Result<bool> {
     let p = vibrating_bar::parameters("thesis-table-4.1")?;
-    let d = Discretisation {
-        method,
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        cells,
-        ppc,
-    };
+    let d = Discretisation::direct(method, cells, ppc);
     let mut sim = p.simulation(&d)?;
     sim.settings.consistent_acceleration = consistent_acceleration;
     let h = p.length / cells as f64;

@@ -17,7 +17,7 @@
 use super::Discretisation;
 use crate::error::{Error, Result};
 use crate::mpm::grid::Grid;
-use crate::mpm::musl::{Constitutive, Settings, Simulation};
+use crate::mpm::musl::{Constitutive, Simulation};
 use crate::mpm::particles::Particles;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -142,17 +142,13 @@ impl ColumnParameters {
         let mut particles = Particles::uniform(0.0, self.height, d.cells * d.ppc, self.density)?;
         let top = particles.len() - 1;
         particles.traction[top] = self.top_load;
-        let settings = Settings {
-            force_mapping: d.force_mapping,
-            velocity_mapping: d.velocity_mapping,
-            mass: d.mass,
-            constitutive: self.constitutive,
-            young: self.young,
-            gravity: self.gravity,
-            gravity_ramp: self.ramp_time,
-            dirichlet: vec![0],
-            consistent_acceleration: false,
-        };
+        let settings = d.settings(
+            self.constitutive,
+            self.young,
+            self.gravity,
+            self.ramp_time,
+            vec![0],
+        );
         Simulation::new(grid, particles, settings)
     }
 }

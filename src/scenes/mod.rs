@@ -33,6 +33,54 @@ pub struct Discretisation {
     pub ppc: usize,
 }
 
+impl Discretisation {
+    /// The same mapping for force and velocity.
+    pub fn new(
+        method: Method,
+        mapping: Mapping,
+        mass: MassMatrix,
+        cells: usize,
+        ppc: usize,
+    ) -> Self {
+        Self {
+            method,
+            force_mapping: mapping,
+            velocity_mapping: mapping,
+            mass,
+            cells,
+            ppc,
+        }
+    }
+
+    /// Standard MPM mapping with lumped mass (book §4.2.2).
+    pub fn direct(method: Method, cells: usize, ppc: usize) -> Self {
+        Self::new(method, Mapping::Direct, MassMatrix::Lumped, cells, ppc)
+    }
+
+    /// The run settings of this discretisation for a scene's material and
+    /// boundary conditions.
+    pub fn settings(
+        &self,
+        constitutive: crate::mpm::musl::Constitutive,
+        young: f64,
+        gravity: f64,
+        gravity_ramp: Option<f64>,
+        dirichlet: Vec<usize>,
+    ) -> crate::mpm::musl::Settings {
+        crate::mpm::musl::Settings {
+            force_mapping: self.force_mapping,
+            velocity_mapping: self.velocity_mapping,
+            mass: self.mass,
+            constitutive,
+            young,
+            gravity,
+            gravity_ramp,
+            dirichlet,
+            consistent_acceleration: false,
+        }
+    }
+}
+
 /// Finds the parameter set called `name` among `sets`, or names the known ones.
 pub(crate) fn find_set<T: Copy>(
     sets: &[T],

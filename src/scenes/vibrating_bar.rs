@@ -13,7 +13,7 @@
 use super::Discretisation;
 use crate::error::{Error, Result};
 use crate::mpm::grid::Grid;
-use crate::mpm::musl::{Constitutive, Settings, Simulation};
+use crate::mpm::musl::{Constitutive, Simulation};
 use crate::mpm::particles::Particles;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -135,17 +135,7 @@ impl BarParameters {
             particles.v[k] = self.velocity(particles.x0[k], 0.0);
         }
         let last = grid.num_dofs() - 1;
-        let settings = Settings {
-            force_mapping: d.force_mapping,
-            velocity_mapping: d.velocity_mapping,
-            mass: d.mass,
-            constitutive: self.constitutive,
-            young: self.young,
-            gravity: 0.0,
-            gravity_ramp: None,
-            dirichlet: vec![0, last],
-            consistent_acceleration: false,
-        };
+        let settings = d.settings(self.constitutive, self.young, 0.0, None, vec![0, last]);
         Simulation::new(grid, particles, settings)
     }
 }

@@ -9,19 +9,12 @@
 use super::{Computed, TableSpec, Tolerance};
 use crate::error::Result;
 use crate::mpm::grid::Method;
-use crate::mpm::mapping::{Mapping, MassMatrix};
+use crate::mpm::mapping::Mapping;
 use crate::mpm::particles::Particles;
 use crate::scenes::{column, vibrating_bar, Discretisation};
 
 fn direct(method: Method, cells: usize, ppc: usize) -> Discretisation {
-    Discretisation {
-        method,
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        cells,
-        ppc,
-    }
+    Discretisation::direct(method, cells, ppc)
 }
 
 /// (max |u_p|, grid crossings) of a bar run.

@@ -78,14 +78,7 @@ impl ThesisVariant {
                 MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
             ),
         };
-        Discretisation {
-            method,
-            force_mapping: mapping,
-            velocity_mapping: mapping,
-            mass,
-            cells,
-            ppc,
-        }
+        Discretisation::new(method, mapping, mass, cells, ppc)
     }
 }
 
