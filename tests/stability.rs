@@ -15,14 +15,7 @@ fn disc(
     cells: usize,
     ppc: usize,
 ) -> Discretisation {
-    Discretisation {
-        method,
-        force_mapping: mapping,
-        velocity_mapping: mapping,
-        mass,
-        cells,
-        ppc,
-    }
+    Discretisation::new(method, mapping, mass, cells, ppc)
 }
 
 fn bar_rms(
