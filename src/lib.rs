@@ -20,14 +20,17 @@
 //! | 2 | [`mass`] | consistent and lumped mass, Kronecker 2D operators (book Eqs. 4.2–4.4, thesis A.1–A.2) |
 //! | 3 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
 //! | 4 | [`reconstruct`] | least squares, Taylor LS, cubic splines, MLS (book §4.4, TLS §5, thesis §7.1, MLS Eqs. 6–17) |
+//! | 5 | [`mpm`] | particles, grid bases, mappings, the MUSL step, diagnostics (book §4.2, TLS §3–5, thesis §3) |
+//! | 5 | [`fem`] | updated-Lagrangian FEM reference (thesis §5.1.2, TLS §6.1) |
+//! | 6 | [`scenes`], [`studies`] | benchmark problems with named parameter sets; sweeps |
 //! | 0 | [`rng`] | the seeded generator behind every "random" layout |
-//! | 6 | [`tables`] | the registry of published tables and their computations |
+//! | 7 | [`tables`] | the registry of published tables and their computations |
+//! | 8 | [`report`] | report.md/json, reproduction.md, charts |
 //!
-//! Later layers (solvers, reconstruction, the MPM step, scenes, the report)
-//! slot in between `mass` and `tables`.
 
 pub mod basis;
 pub mod error;
+pub mod fem;
 pub mod lagrange;
 pub mod mass;
 pub mod mpm;

@@ -101,6 +101,9 @@ impl Tolerance {
     pub const RMS: Tolerance = Tolerance::Relative(0.02);
     /// Convergence orders log2(e(h)/e(h/2)): ±0.01 (docs/conventions.md).
     pub const ORDER: Tolerance = Tolerance::Absolute(0.01);
+    /// A ratio of two error measures (error-reduction factors): 4 %, the
+    /// combination of two 2 % RMS tolerances (docs/conventions.md).
+    pub const ERROR_RATIO: Tolerance = Tolerance::Relative(0.04);
     /// An integer order stated in a paper's text against a fitted slope: ±0.2
     /// (docs/conventions.md).
     pub const STATED_ORDER: Tolerance = Tolerance::Absolute(0.2);
