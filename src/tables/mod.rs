@@ -155,6 +155,17 @@ pub struct Computed {
     pub notes: Vec<String>,
 }
 
+impl Computed {
+    /// A `rows × cols` grid left uncomputed by `--quick` (too costly for a
+    /// smoke test); the report shows it as not computed, never as regressed.
+    pub fn skipped_in_quick_mode(rows: usize, cols: usize) -> Self {
+        Self {
+            values: vec![vec![None; cols]; rows],
+            notes: vec!["not computed with --quick".into()],
+        }
+    }
+}
+
 /// A registered table: published numbers, setup, tolerance and computation.
 pub struct TableSpec {
     /// Table id.

@@ -488,10 +488,7 @@ fn tls_fig10() -> TableSpec {
         tolerance: |_, _| Tolerance::RMS,
         compute: |o| {
             if o.quick {
-                return Ok(Computed {
-                    values: vec![vec![None; 3]; 3],
-                    notes: vec!["not computed with --quick".into()],
-                });
+                return Ok(Computed::skipped_in_quick_mode(3, 3));
             }
             let maps = [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls];
             let flat = compaction_grid(|r| [r.stress_error, 0.0, 0.0], &maps)?;
@@ -521,10 +518,7 @@ fn tls_7() -> TableSpec {
         },
         compute: |o| {
             if o.quick {
-                return Ok(Computed {
-                    values: vec![vec![None; 6]; 2],
-                    notes: vec!["not computed with --quick".into()],
-                });
+                return Ok(Computed::skipped_in_quick_mode(2, 6));
             }
             let values = conservation_rows(|m, map| {
                 compaction(m, map).map(|r| (r.mass_error, r.momentum_error))
@@ -562,7 +556,7 @@ fn book_4_5_large() -> TableSpec {
         tolerance: |_, c| if c == 2 { Tolerance::ERROR_RATIO } else { Tolerance::MachinePrecision },
         compute: |o| {
             if o.quick {
-                return Ok(Computed { values: vec![vec![None, None, None]], notes: vec!["not computed with --quick".into()] });
+                return Ok(Computed::skipped_in_quick_mode(1, 3));
             }
             let (m, p) = conservation_errors_for("book-table-4.1-large", Method::Bsmpm { degree: 2 }, Mapping::Tls, 20, 8, 1e-5, 10_000)?;
             let variants = [(Method::Mpm, Mapping::Direct), (Method::Bsmpm { degree: 2 }, Mapping::Tls)];
@@ -641,7 +635,7 @@ fn tls_fig9() -> TableSpec {
         tolerance: |_, _| Tolerance::ERROR_RATIO,
         compute: |o| {
             if o.quick {
-                return Ok(Computed { values: vec![vec![None]; 4], notes: vec!["not computed with --quick".into()] });
+                return Ok(Computed::skipped_in_quick_mode(4, 1));
             }
             let b = Method::Bsmpm { degree: 2 };
             let variants = [
