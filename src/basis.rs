@@ -64,3 +64,129 @@ pub trait Basis1d {
     /// polynomial (elements or non-empty knot spans).
     fn cells(&self) -> Vec<(f64, f64)>;
 }
+
+/// The non-zero basis values and gradients at many points, stored flat.
+///
+/// Point k owns the `width` entries `values[k·width .. (k+1)·width]`, which
+/// belong to the global functions `first[k] .. first[k] + width`; likewise
+/// for `gradients`. One `Stencils` is allocated when a simulation starts and
+/// refilled every step, so evaluating the basis at the particles allocates
+/// nothing (no `Vec` per particle). Entries that a point does not need (the
+/// padding of a dual-domain stencil near the boundary) are exact zeros.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Stencils {
+    width: usize,
+    /// Global index of the first function of each point's stencil.
+    pub first: Vec<usize>,
+    /// φ_{first+j}(x_k) at `k·width + j`.
+    pub values: Vec<f64>,
+    /// ∇φ_{first+j}(x_k) (or a modified gradient) at `k·width + j`.
+    pub gradients: Vec<f64>,
+}
+
+impl Stencils {
+    /// Room for `points` stencils of `width` functions each.
+    pub fn new(width: usize, points: usize) -> Self {
+        let mut s = Self {
+            width,
+            ..Self::default()
+        };
+        s.resize(points);
+        s
+    }
+
+    /// Values and first derivatives of `basis` at every point of `xs`, one
+    /// stencil of p+1 functions per point (through [`Basis1d::local`]; for
+    /// specification functions and tests, not for a time step).
+    pub fn evaluate(basis: &dyn Basis1d, xs: &[f64]) -> Result<Self> {
+        let width = basis.degree() + 1;
+        let mut s = Self::new(width, xs.len());
+        for (k, &x) in xs.iter().enumerate() {
+            let loc = basis.local(x, 1)?;
+            s.first[k] = loc.first;
+            let (v, g) = s.slots_mut(k);
+            v.copy_from_slice(loc.values());
+            g.copy_from_slice(loc.gradients());
+        }
+        Ok(s)
+    }
+
+    /// Number of functions per stencil.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.first.len()
+    }
+
+    /// True if there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.first.is_empty()
+    }
+
+    /// Changes the number of points; allocates only when it grows beyond
+    /// what was ever held.
+    pub fn resize(&mut self, points: usize) {
+        self.first.resize(points, 0);
+        self.values.resize(points * self.width, 0.0);
+        self.gradients.resize(points * self.width, 0.0);
+    }
+
+    /// The values of point k.
+    pub fn values_of(&self, k: usize) -> &[f64] {
+        &self.values[k * self.width..(k + 1) * self.width]
+    }
+
+    /// The gradients of point k.
+    pub fn gradients_of(&self, k: usize) -> &[f64] {
+        &self.gradients[k * self.width..(k + 1) * self.width]
+    }
+
+    /// Mutable values and gradients of point k.
+    pub fn slots_mut(&mut self, k: usize) -> (&mut [f64], &mut [f64]) {
+        let r = k * self.width..(k + 1) * self.width;
+        (&mut self.values[r.clone()], &mut self.gradients[r])
+    }
+
+    /// Σ_k w_k φ_i(x_k) added into `out` in point order (book Eq. 4.5 with
+    /// w_k = m_p; loads Σ_p m_p g φ_i and Σ_p f_p φ_i of thesis §3.2).
+    pub fn scatter_values(&self, weight: impl Fn(usize) -> f64, out: &mut [f64]) {
+        for k in 0..self.len() {
+            let w = weight(k);
+            let first = self.first[k];
+            for (o, &phi) in out[first..first + self.width]
+                .iter_mut()
+                .zip(self.values_of(k))
+            {
+                *o += w * phi;
+            }
+        }
+    }
+
+    /// Σ_k w_k ∇φ_i(x_k) added into `out` in point order (book Eq. 4.6 with
+    /// w_k = σ_p V_p).
+    pub fn scatter_gradients(&self, weight: impl Fn(usize) -> f64, out: &mut [f64]) {
+        for k in 0..self.len() {
+            let w = weight(k);
+            let first = self.first[k];
+            for (o, &g) in out[first..first + self.width]
+                .iter_mut()
+                .zip(self.gradients_of(k))
+            {
+                *o += w * g;
+            }
+        }
+    }
+
+    /// Σ_i φ_i(x_k) a_i: a nodal field interpolated at point k (book Eq. 4.9).
+    pub fn interpolate(&self, k: usize, nodal: &[f64]) -> f64 {
+        let first = self.first[k];
+        self.values_of(k)
+            .iter()
+            .zip(&nodal[first..first + self.width])
+            .map(|(phi, a)| phi * a)
+            .sum()
+    }
+}

@@ -125,6 +125,43 @@ impl LagrangeBasis {
     }
 }
 
+impl LagrangeBasis {
+    /// The `degree + 1` shape functions of the element containing x and
+    /// their gradients, written into the given slices (no allocation); the
+    /// same numbers as [`Basis1d::local`] with order 1. Returns the global
+    /// index of the first function. Thesis §5.1–5.2: N_i(x) = N̂_i(T⁻¹(x)),
+    /// ∇N_i = N̂_i'(ξ)/h.
+    pub fn evaluate_into(
+        &self,
+        x: f64,
+        values: &mut [f64],
+        gradients: &mut [f64],
+    ) -> Result<usize> {
+        let k = self.element_of(x)?;
+        let h = self.element_size();
+        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        match self.order {
+            LagrangeOrder::Linear => {
+                values[..2].copy_from_slice(&[1.0 - xi, xi]);
+                gradients[..2].copy_from_slice(&[-1.0 / h, 1.0 / h]);
+            }
+            LagrangeOrder::Quadratic => {
+                values[..3].copy_from_slice(&[
+                    2.0 * xi * xi - 3.0 * xi + 1.0,
+                    -4.0 * xi * xi + 4.0 * xi,
+                    2.0 * xi * xi - xi,
+                ]);
+                gradients[..3].copy_from_slice(&[
+                    (4.0 * xi - 3.0) / h,
+                    (-8.0 * xi + 4.0) / h,
+                    (4.0 * xi - 1.0) / h,
+                ]);
+            }
+        }
+        Ok(self.order.degree() * k)
+    }
+}
+
 impl Basis1d for LagrangeBasis {
     fn num_basis(&self) -> usize {
         self.order.degree() * self.elements + 1

@@ -57,7 +57,7 @@ pub fn row_sum_lumping(matrix: &DMatrix<f64>) -> Vec<f64> {
     matrix.row_iter().map(|r| r.sum()).collect()
 }
 
-use crate::basis::Basis1d;
+use crate::basis::{Basis1d, Stencils};
 use crate::error::finite;
 use crate::quadrature::GaussLegendre;
 use crate::sparse::SparseMatrix;
@@ -189,14 +189,16 @@ pub fn material_point_lumped_mass(
     masses: &[f64],
 ) -> Result<Vec<f64>> {
     check_particles(positions, masses)?;
+    let stencils = Stencils::evaluate(basis, positions)?;
     let mut out = vec![0.0; basis.num_basis()];
-    for (&x, &m) in positions.iter().zip(masses) {
-        let loc = basis.local(x, 0)?;
-        for (j, &v) in loc.values().iter().enumerate() {
-            out[loc.first + j] += m * v;
-        }
-    }
+    add_lumped_mass(&stencils, masses, &mut out);
     Ok(out)
+}
+
+/// Book Eq. (4.5), the kernel the MPM step calls: adds m_i = Σ_p m_p φ_i(x_p)
+/// into `out`, from the basis values at the particles, in particle order.
+pub fn add_lumped_mass(stencils: &Stencils, masses: &[f64], out: &mut [f64]) {
+    stencils.scatter_values(|k| masses[k], out);
 }
 
 /// The indices that remain after homogeneous Dirichlet conditions remove the

@@ -106,16 +106,18 @@ impl GaussLegendre {
     /// The rule mapped to [a, b], thesis Eq. (A.2):
     /// x = (b−a)/2 · t + (a+b)/2, ω = (b−a)/2 · w.
     pub fn on_interval(&self, a: f64, b: f64) -> Vec<QuadraturePoint> {
+        (0..self.len()).map(|i| self.point(i, a, b)).collect()
+    }
+
+    /// Point i of the rule mapped to [a, b] (thesis Eq. A.2), without
+    /// allocating: x = (b−a)/2 · t_i + (a+b)/2, ω = (b−a)/2 · w_i.
+    pub fn point(&self, i: usize, a: f64, b: f64) -> QuadraturePoint {
         let half = 0.5 * (b - a);
         let mid = 0.5 * (a + b);
-        self.nodes
-            .iter()
-            .zip(&self.weights)
-            .map(|(&t, &w)| QuadraturePoint {
-                x: mid + half * t,
-                weight: half * w,
-            })
-            .collect()
+        QuadraturePoint {
+            x: mid + half * self.nodes[i],
+            weight: half * self.weights[i],
+        }
     }
 
     /// ∫_a^b f dx by this rule.
@@ -136,13 +138,7 @@ pub fn gauss_on_cells(
     let rule = GaussLegendre::new(points_per_cell)?;
     let mut out = Vec::with_capacity(cells.len() * points_per_cell);
     for &(a, b) in cells {
-        finite("cell end", a)?;
-        finite("cell end", b)?;
-        if b <= a {
-            return Err(Error::InvalidArgument(format!(
-                "cell [{a}, {b}] has zero or negative length"
-            )));
-        }
+        check_cell(a, b)?;
         out.extend(rule.on_interval(a, b));
     }
     Ok(out)
@@ -153,12 +149,37 @@ pub fn gauss_on_cells(
 /// x = ±(ξ_{j+1} − ξ_j)/4 · √(1/3) + (3ξ_j + ξ_{j+1})/4 and the same about
 /// (ξ_j + 3ξ_{j+1})/4, each with weight (ξ_{j+1} − ξ_j)/4.
 pub fn half_span_rule(spans: &[(f64, f64)]) -> Result<Vec<QuadraturePoint>> {
-    let halves: Vec<(f64, f64)> = spans
-        .iter()
-        .flat_map(|&(a, b)| {
-            let m = 0.5 * (a + b);
-            [(a, m), (m, b)]
-        })
-        .collect();
-    gauss_on_cells(&halves, 2)
+    let rule = GaussLegendre::new(2)?;
+    let mut out = Vec::with_capacity(4 * spans.len());
+    for &(a, b) in spans {
+        let m = 0.5 * (a + b);
+        for (c, d) in [(a, m), (m, b)] {
+            check_cell(c, d)?;
+        }
+        out.extend(half_span_points(&rule, a, b).into_iter().flatten());
+    }
+    Ok(out)
+}
+
+/// The four points of [`half_span_rule`] on one span [a, b], as the two
+/// halves' 2-point rules, from a 2-point [`GaussLegendre`] rule (no
+/// allocation; spline-based MPM calls this every step, thesis §7.2).
+pub fn half_span_points(rule: &GaussLegendre, a: f64, b: f64) -> [[QuadraturePoint; 2]; 2] {
+    let m = 0.5 * (a + b);
+    [
+        [rule.point(0, a, m), rule.point(1, a, m)],
+        [rule.point(0, m, b), rule.point(1, m, b)],
+    ]
+}
+
+/// A cell must have finite ends and positive length.
+fn check_cell(a: f64, b: f64) -> Result<()> {
+    finite("cell end", a)?;
+    finite("cell end", b)?;
+    if b <= a {
+        return Err(Error::InvalidArgument(format!(
+            "cell [{a}, {b}] has zero or negative length"
+        )));
+    }
+    Ok(())
 }

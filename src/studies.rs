@@ -124,30 +124,29 @@ pub fn bar_errors(params: &str, d: &Discretisation, dt: f64, steps: usize) -> Re
     let vh = exact(&|x, t| p.velocity(x, t - 0.5 * dt));
     let s = exact(&|x, t| p.stress(x, t));
     // Grid velocity at the particles: re-project the final particle velocities.
-    let shapes = crate::mpm::mapping::particle_shapes(&sim.grid, &sim.particles)?;
-    let proj = crate::mpm::mapping::project_velocity(
-        &sim.grid,
-        &sim.particles,
-        &shapes,
+    let (grid, particles) = (&sim.grid, &sim.particles);
+    let stencils = grid.stencils_at(&particles.x)?;
+    let mut ws = crate::mpm::mapping::MappingWorkspace::new(grid, particles.len())?;
+    ws.begin_step(grid, particles, &[d.velocity_mapping])?;
+    crate::mpm::mapping::project_velocity(
+        grid,
+        particles,
+        &stencils,
         d.velocity_mapping,
         d.mass,
+        &mut ws,
     )?;
-    let mut vg: Vec<f64> = shapes
-        .iter()
-        .map(|sh| {
-            sh.values
-                .iter()
-                .enumerate()
-                .map(|(j, phi)| phi * proj.velocity[sh.first + j])
-                .sum()
-        })
+    let nodal = &ws.velocity;
+    let mut vg: Vec<f64> = (0..particles.len())
+        .map(|k| stencils.interpolate(k, nodal))
         .collect();
-    let last = sim.grid.num_dofs() - 1;
-    for (k, sh) in shapes.iter().enumerate() {
-        // Dirichlet DOFs carry zero velocity.
-        for (j, phi) in sh.values.iter().enumerate() {
-            if sh.first + j == 0 || sh.first + j == last {
-                vg[k] -= phi * proj.velocity[sh.first + j];
+    // Dirichlet DOFs carry zero velocity: their terms are taken out again.
+    let last = grid.num_dofs() - 1;
+    for (k, vg) in vg.iter_mut().enumerate() {
+        let first = stencils.first[k];
+        for (j, phi) in stencils.values_of(k).iter().enumerate() {
+            if first + j == 0 || first + j == last {
+                *vg -= phi * nodal[first + j];
             }
         }
     }

@@ -4,7 +4,7 @@
 use hompm::mpm::diagnostics::relative_l2_error;
 use hompm::mpm::grid::{Grid, Method};
 use hompm::mpm::mapping::{
-    particle_shapes, project_velocity, ConsistentSolver, Mapping, MassMatrix,
+    project_velocity, ConsistentSolver, Mapping, MappingWorkspace, MassMatrix,
 };
 use hompm::mpm::particles::Particles;
 use proptest::prelude::*;
@@ -44,13 +44,15 @@ proptest! {
                                            tls in any::<bool>(), consistent in any::<bool>()) {
         let grid = Grid::new(method, 0.0, 1.0, cells).unwrap();
         let p = particles(cells, ppc, &jitter, &vel);
-        let shapes = particle_shapes(&grid, &p).unwrap();
+        let stencils = grid.stencils_at(&p.x).unwrap();
         let mapping = if tls { Mapping::Tls } else { Mapping::Direct };
         let mass = if consistent { MassMatrix::Consistent(ConsistentSolver::Cholesky) } else { MassMatrix::Lumped };
         // With two Gauss points per element the TLS consistent mass has rank
         // ≤ 2·cells; below the DOF count it is singular, a typed error.
         let rank_deficient = tls && consistent && 2 * cells < grid.num_dofs();
-        let proj = match project_velocity(&grid, &p, &shapes, mapping, mass) {
+        let mut ws = MappingWorkspace::new(&grid, p.len()).unwrap();
+        ws.begin_step(&grid, &p, &[mapping]).unwrap();
+        let proj = match project_velocity(&grid, &p, &stencils, mapping, mass, &mut ws) {
             Err(hompm::Error::Singular(_)) if rank_deficient => return Ok(()),
             other => other.unwrap(),
         };

@@ -13,11 +13,19 @@
 //! V_j = ∫_Ω φ_j dΩ, blended by α(x) = 2 Σ_i φ_i(x) φ_{i+1}(x), which vanishes
 //! on the element boundaries. The integrals are taken over the (fixed) grid
 //! domain Ω, exactly by two Gauss points per element (docs/conventions.md).
+//!
+//! Every step evaluates the basis at every particle, so [`Grid::evaluate`]
+//! writes into caller-owned slices and allocates nothing, and a particle's
+//! cell ([`Grid::cell_of`]) and its count of gradient breaks
+//! ([`Grid::breaks_at_or_below`], for grid crossings) cost O(1) on the
+//! uniform grids of the seeds: a guess from the spacing, corrected against
+//! the stored cell boundaries so that the answer is exact.
 
-use crate::basis::Basis1d;
+use crate::basis::{Basis1d, Stencils};
 use crate::error::{Error, Result};
 use crate::lagrange::{LagrangeBasis, LagrangeOrder};
 use crate::quadrature::GaussLegendre;
+use crate::spline::bspline::SpanScratch;
 use crate::spline::KnotVector;
 use serde::Serialize;
 
@@ -84,12 +92,24 @@ struct DualDomain {
     g: Vec<[f64; 3]>,
 }
 
+/// The two families of grid bases, held concretely so that the per-particle
+/// evaluation is a direct call.
+#[derive(Debug, Clone)]
+enum GridBasis {
+    Lagrange(LagrangeBasis),
+    BSpline(KnotVector),
+}
+
 /// The background grid.
 pub struct Grid {
     method: Method,
-    basis: Box<dyn Basis1d + Send + Sync>,
+    basis: GridBasis,
     dual: Option<DualDomain>,
     cells: usize,
+    /// c_0 = a < c_1 < … < c_cells = b: the ends of [`Grid::cells`].
+    boundaries: Vec<f64>,
+    /// The sorted points where a basis gradient jumps.
+    breaks: Vec<f64>,
 }
 
 impl std::fmt::Debug for Grid {
@@ -99,50 +119,66 @@ impl std::fmt::Debug for Grid {
             "Grid({:?}, {} cells on {:?})",
             self.method,
             self.cells,
-            self.basis.domain()
+            self.basis().domain()
         )
     }
+}
+
+/// The node integrals of DDMPM, TLS paper §3.3: V_j = ∫_Ω φ_j dΩ and
+/// ∫_Ω φ_j ∇φ_i dΩ, exactly by two Gauss points per element.
+fn dual_domain(basis: &dyn Basis1d) -> Result<DualDomain> {
+    let n = basis.num_basis();
+    let mut node_volume = vec![0.0; n];
+    let mut g = vec![[0.0; 3]; n];
+    let rule = GaussLegendre::new(2)?;
+    for (c0, c1) in basis.cells() {
+        for q in rule.on_interval(c0, c1) {
+            let loc = basis.local(q.x, 1)?;
+            for (a_, &phi_j) in loc.values().iter().enumerate() {
+                let j = loc.first + a_;
+                node_volume[j] += q.weight * phi_j;
+                for (b_, &grad_i) in loc.gradients().iter().enumerate() {
+                    let i = loc.first + b_;
+                    let slot = (i as isize - j as isize + 1) as usize;
+                    g[j][slot] += q.weight * phi_j * grad_i;
+                }
+            }
+        }
+    }
+    Ok(DualDomain { node_volume, g })
 }
 
 impl Grid {
     /// A grid of `cells` equal elements (or knot spans) on [a, b].
     pub fn new(method: Method, a: f64, b: f64, cells: usize) -> Result<Self> {
-        let basis: Box<dyn Basis1d + Send + Sync> = match method {
+        let basis = match method {
             Method::Mpm | Method::Ddmpm => {
-                Box::new(LagrangeBasis::new(a, b, cells, LagrangeOrder::Linear)?)
+                GridBasis::Lagrange(LagrangeBasis::new(a, b, cells, LagrangeOrder::Linear)?)
             }
-            Method::MpmP2 => Box::new(LagrangeBasis::new(a, b, cells, LagrangeOrder::Quadratic)?),
-            Method::Bsmpm { degree } => Box::new(KnotVector::open_uniform(a, b, cells, degree)?),
-        };
-        let dual = if method == Method::Ddmpm {
-            let n = basis.num_basis();
-            let mut node_volume = vec![0.0; n];
-            let mut g = vec![[0.0; 3]; n];
-            let rule = GaussLegendre::new(2)?;
-            for (c0, c1) in basis.cells() {
-                for q in rule.on_interval(c0, c1) {
-                    let loc = basis.local(q.x, 1)?;
-                    for (a_, &phi_j) in loc.values().iter().enumerate() {
-                        let j = loc.first + a_;
-                        node_volume[j] += q.weight * phi_j;
-                        for (b_, &grad_i) in loc.gradients().iter().enumerate() {
-                            let i = loc.first + b_;
-                            let slot = (i as isize - j as isize + 1) as usize;
-                            g[j][slot] += q.weight * phi_j * grad_i;
-                        }
-                    }
-                }
+            Method::MpmP2 => {
+                GridBasis::Lagrange(LagrangeBasis::new(a, b, cells, LagrangeOrder::Quadratic)?)
             }
-            Some(DualDomain { node_volume, g })
-        } else {
-            None
+            Method::Bsmpm { degree } => {
+                GridBasis::BSpline(KnotVector::open_uniform(a, b, cells, degree)?)
+            }
         };
-        Ok(Self {
+        let mut grid = Self {
             method,
             basis,
-            dual,
+            dual: None,
             cells,
-        })
+            boundaries: Vec::new(),
+            breaks: Vec::new(),
+        };
+        let spans = grid.basis().cells();
+        grid.boundaries = std::iter::once(spans[0].0)
+            .chain(spans.iter().map(|c| c.1))
+            .collect();
+        grid.breaks = grid.basis().gradient_breaks();
+        if method == Method::Ddmpm {
+            grid.dual = Some(dual_domain(grid.basis())?);
+        }
+        Ok(grid)
     }
 
     /// The method.
@@ -152,7 +188,7 @@ impl Grid {
 
     /// Number of degrees of freedom.
     pub fn num_dofs(&self) -> usize {
-        self.basis.num_basis()
+        self.basis().num_basis()
     }
 
     /// Number of elements or knot spans.
@@ -162,7 +198,7 @@ impl Grid {
 
     /// The domain [a, b].
     pub fn domain(&self) -> (f64, f64) {
-        self.basis.domain()
+        self.basis().domain()
     }
 
     /// Element (or knot-span) size h.
@@ -173,63 +209,181 @@ impl Grid {
 
     /// The cells (elements or non-empty knot spans).
     pub fn cells(&self) -> Vec<(f64, f64)> {
-        self.basis.cells()
+        self.basis().cells()
+    }
+
+    /// The ends of cell e, the same numbers as `cells()[e]`, without allocating.
+    pub fn cell_bounds(&self, e: usize) -> (f64, f64) {
+        (self.boundaries[e], self.boundaries[e + 1])
     }
 
     /// Polynomial degree of the basis.
     pub fn degree(&self) -> usize {
-        self.basis.degree()
+        self.basis().degree()
     }
 
     /// Points where a basis gradient is discontinuous (grid crossings).
     pub fn gradient_breaks(&self) -> Vec<f64> {
-        self.basis.gradient_breaks()
+        self.breaks.clone()
     }
 
     /// The underlying basis (values and exact derivatives).
     pub fn basis(&self) -> &(dyn Basis1d + Send + Sync) {
-        self.basis.as_ref()
+        match &self.basis {
+            GridBasis::Lagrange(l) => l,
+            GridBasis::BSpline(k) => k,
+        }
     }
 
-    /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3).
-    pub fn shape(&self, x: f64) -> Result<Shape> {
-        let loc = self.basis.local(x, 1)?;
-        let Some(dd) = &self.dual else {
-            return Ok(Shape {
-                first: loc.first,
-                values: loc.values().to_vec(),
-                gradients: loc.gradients().to_vec(),
-            });
-        };
-        // P1: the element's two functions j = k, k+1; ∇̃φ_i non-zero for i = k−1..k+2.
-        let n = self.num_dofs();
-        let k = loc.first;
-        let first = k.saturating_sub(1);
-        let last = (k + 2).min(n - 1);
-        let len = last - first + 1;
-        let mut values = vec![0.0; len];
-        let mut grads = vec![0.0; len];
-        let (phi_k, phi_k1) = (loc.values()[0], loc.values()[1]);
-        let alpha = 2.0 * phi_k * phi_k1;
-        values[k - first] = phi_k;
-        values[k + 1 - first] = phi_k1;
-        for (a_, &phi_j) in loc.values().iter().enumerate() {
-            let j = k + a_;
-            for (slot, gji) in dd.g[j].iter().enumerate() {
-                let i = j as isize + slot as isize - 1;
-                if i < first as isize || i > last as isize {
-                    continue;
-                }
-                grads[i as usize - first] += (1.0 - alpha) * phi_j / dd.node_volume[j] * gji;
+    /// Functions per particle stencil: 2 for P1, 3 for P2, p+1 for B-splines,
+    /// and 4 for DDMPM, whose modified gradient ∇̄φ_i reaches one node beyond
+    /// the element on each side (TLS paper §3.3; fewer on a grid of fewer
+    /// than four DOFs).
+    pub fn stencil_width(&self) -> usize {
+        match self.method {
+            Method::Ddmpm => self.num_dofs().min(4),
+            _ => self.degree() + 1,
+        }
+    }
+
+    /// Empty stencils of this grid's width for `points` points.
+    pub fn stencils(&self, points: usize) -> Stencils {
+        Stencils::new(self.stencil_width(), points)
+    }
+
+    /// The cell e with c_e ≤ x < c_{e+1} (the last cell closed): the same
+    /// half-open assignment as the reconstructions. O(1) on a uniform grid.
+    pub fn cell_of(&self, x: f64) -> Result<usize> {
+        let (a, b) = self.domain();
+        if !(a..=b).contains(&x) {
+            crate::error::finite("position", x)?;
+            return Err(Error::OutsideDomain { x, a, b });
+        }
+        let c = &self.boundaries;
+        let mut e = (((x - a) / (b - a) * self.cells as f64) as usize).min(self.cells - 1);
+        while e + 1 < self.cells && c[e + 1] <= x {
+            e += 1;
+        }
+        while e > 0 && c[e] > x {
+            e -= 1;
+        }
+        Ok(e)
+    }
+
+    /// The number of gradient breaks b ≤ x. A particle moving from x to y
+    /// crosses |N(y) − N(x)| breaks (thesis §3.3). O(1) on a uniform grid.
+    pub fn breaks_at_or_below(&self, x: f64) -> usize {
+        let br = &self.breaks;
+        if br.is_empty() {
+            return 0;
+        }
+        let (a, b) = self.domain();
+        let guess = ((x - a) / (b - a) * self.cells as f64).max(0.0) as usize;
+        let mut k = guess.min(br.len());
+        while k < br.len() && br[k] <= x {
+            k += 1;
+        }
+        while k > 0 && br[k - 1] > x {
+            k -= 1;
+        }
+        k
+    }
+
+    /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3),
+    /// written into `values` and `gradients` (each [`Grid::stencil_width`]
+    /// long) without allocating. Returns the global index of the first
+    /// function. `scratch` holds the Cox–de Boor work arrays between calls.
+    pub fn evaluate(
+        &self,
+        x: f64,
+        scratch: &mut SpanScratch,
+        values: &mut [f64],
+        gradients: &mut [f64],
+    ) -> Result<usize> {
+        match (&self.basis, &self.dual) {
+            (GridBasis::Lagrange(l), None) => l.evaluate_into(x, values, gradients),
+            (GridBasis::Lagrange(l), Some(dd)) => {
+                let mut phi = [0.0; 2];
+                let mut grad = [0.0; 2];
+                let k = l.evaluate_into(x, &mut phi, &mut grad)?;
+                Ok(dual_domain_gradients(dd, k, phi, grad, values, gradients))
+            }
+            (GridBasis::BSpline(kv), _) => {
+                let first = kv.local_basis_into(x, 1, scratch)?;
+                values.copy_from_slice(scratch.derivative(0));
+                gradients.copy_from_slice(scratch.derivative(1));
+                Ok(first)
             }
         }
-        for (a_, &gr) in loc.gradients().iter().enumerate() {
-            grads[k + a_ - first] += alpha * gr;
+    }
+
+    /// Fills `stencils` with the basis at every point of `xs` (one
+    /// [`Grid::evaluate`] per point).
+    pub fn fill_stencils(
+        &self,
+        xs: &[f64],
+        stencils: &mut Stencils,
+        scratch: &mut SpanScratch,
+    ) -> Result<()> {
+        stencils.resize(xs.len());
+        for (k, &x) in xs.iter().enumerate() {
+            let (v, g) = stencils.slots_mut(k);
+            let first = self.evaluate(x, scratch, v, g)?;
+            stencils.first[k] = first;
         }
+        Ok(())
+    }
+
+    /// The basis at every point of `xs`, in freshly allocated stencils.
+    pub fn stencils_at(&self, xs: &[f64]) -> Result<Stencils> {
+        let mut s = self.stencils(xs.len());
+        self.fill_stencils(xs, &mut s, &mut SpanScratch::default())?;
+        Ok(s)
+    }
+
+    /// φ and the method's gradient at one point, as owned vectors.
+    pub fn shape(&self, x: f64) -> Result<Shape> {
+        let s = self.stencils_at(&[x])?;
         Ok(Shape {
-            first,
-            values,
-            gradients: grads,
+            first: s.first[0],
+            values: s.values,
+            gradients: s.gradients,
         })
     }
+}
+
+/// DDMPM, TLS paper §3.3, on P1 element k with values φ_k, φ_{k+1} and
+/// gradients ∇φ_k, ∇φ_{k+1} at x:
+/// ∇̄φ_i = α ∇φ_i + (1 − α) Σ_j φ_j/V_j ∫ φ_j ∇φ_i, α = 2 φ_k φ_{k+1}.
+/// The stencil covers nodes k−1 … k+2, shifted inwards at the ends of the
+/// grid (padding entries are exact zeros). Returns its first node.
+fn dual_domain_gradients(
+    dd: &DualDomain,
+    k: usize,
+    phi: [f64; 2],
+    grad: [f64; 2],
+    values: &mut [f64],
+    gradients: &mut [f64],
+) -> usize {
+    let n = dd.node_volume.len();
+    let width = values.len();
+    let first = k.saturating_sub(1).min(n - width);
+    values.fill(0.0);
+    gradients.fill(0.0);
+    let alpha = 2.0 * phi[0] * phi[1];
+    values[k - first] = phi[0];
+    values[k + 1 - first] = phi[1];
+    for (a_, &phi_j) in phi.iter().enumerate() {
+        let j = k + a_;
+        for (slot, gji) in dd.g[j].iter().enumerate() {
+            let Some(i) = (j + slot).checked_sub(1).filter(|&i| i < n) else {
+                continue;
+            };
+            gradients[i - first] += (1.0 - alpha) * phi_j / dd.node_volume[j] * gji;
+        }
+    }
+    for (a_, &gr) in grad.iter().enumerate() {
+        gradients[k + a_ - first] += alpha * gr;
+    }
+    first
 }

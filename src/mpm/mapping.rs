@@ -16,16 +16,28 @@
 //!
 //! The nodal velocity solves M v = p with M lumped (a division) or
 //! consistent (a sparse Cholesky, or the thesis' Richardson iteration).
+//!
+//! Everything a mapping needs between steps lives in a [`MappingWorkspace`]:
+//! the particles binned by cell (one counting-sort pass, so TLS costs
+//! O(particles + cells)), the quadrature points and their basis stencils,
+//! and the nodal accumulators of the projection. The direct mapping with a
+//! lumped mass allocates nothing; TLS and cubic splines allocate a bounded
+//! number of small buffers per step (their cell fits and spline
+//! coefficients), the same number every step.
 
-use super::grid::{Grid, Shape};
+use super::grid::Grid;
 use super::particles::Particles;
+use crate::basis::Stencils;
 use crate::error::{Error, Result};
-use crate::quadrature::{gauss_on_cells, QuadraturePoint};
+use crate::quadrature::{half_span_points, GaussLegendre, QuadraturePoint};
 use crate::reconstruct::cubic_spline::{CubicSpline, EndCondition};
-use crate::reconstruct::taylor::{reconstruct, Assignment, TlsOptions};
+use crate::reconstruct::taylor::{
+    reconstruct_binned, Assignment, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
+};
 use crate::solve::direct::cholesky_solve;
 use crate::solve::richardson::richardson;
 use crate::sparse::SparseMatrix;
+use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
 /// How particle data reaches the grid.
@@ -77,84 +89,6 @@ pub enum MassMatrix {
     Consistent(ConsistentSolver),
 }
 
-/// The basis shapes of every particle at the start of the step.
-pub fn particle_shapes(grid: &Grid, particles: &Particles) -> Result<Vec<Shape>> {
-    particles.x.iter().map(|&x| grid.shape(x)).collect()
-}
-
-/// Lumped nodal masses from particles, book Eq. (4.5): m_i = Σ_p m_p φ_i(x_p).
-pub fn lumped_mass(n: usize, particles: &Particles, shapes: &[Shape]) -> Vec<f64> {
-    let mut m = vec![0.0; n];
-    for (s, &mp) in shapes.iter().zip(&particles.mass) {
-        for (j, &phi) in s.values.iter().enumerate() {
-            m[s.first + j] += mp * phi;
-        }
-    }
-    m
-}
-
-/// Σ_p q_p φ_i(x_p) (gravity and traction loads, thesis §3.2).
-pub fn scatter(n: usize, weights: &[f64], shapes: &[Shape]) -> Vec<f64> {
-    let mut f = vec![0.0; n];
-    for (s, &w) in shapes.iter().zip(weights) {
-        for (j, &phi) in s.values.iter().enumerate() {
-            f[s.first + j] += w * phi;
-        }
-    }
-    f
-}
-
-/// The thesis' half-span Gauss points restricted to the continuum
-/// Ω_t ≈ [x_1 − V_1/2, x_N + V_N/2] (thesis §7.2, Figs. 7.3–7.4): on each half
-/// span, both points are kept if both lie inside; if neither does and the
-/// half span misses Ω_t they are deactivated; otherwise the 2-point rule is
-/// redefined on the part of the half span inside Ω_t.
-pub fn spline_quadrature(grid: &Grid, particles: &Particles) -> Result<Vec<QuadraturePoint>> {
-    let (lo_k, hi_k) = extreme_particles(particles);
-    let left = particles.x[lo_k] - 0.5 * particles.volume[lo_k];
-    let right = particles.x[hi_k] + 0.5 * particles.volume[hi_k];
-    let mut out = Vec::new();
-    for (a, b) in grid.cells() {
-        let m = 0.5 * (a + b);
-        for (c, d) in [(a, m), (m, b)] {
-            let pair = gauss_on_cells(&[(c, d)], 2)?;
-            let inside = pair.iter().filter(|q| q.x >= left && q.x <= right).count();
-            if inside == 2 {
-                out.extend(pair);
-            } else {
-                let (c2, d2) = (c.max(left), d.min(right));
-                if d2 > c2 {
-                    out.extend(gauss_on_cells(&[(c2, d2)], 2)?);
-                }
-            }
-        }
-    }
-    Ok(out)
-}
-
-fn extreme_particles(p: &Particles) -> (usize, usize) {
-    let mut lo = 0;
-    let mut hi = 0;
-    for k in 0..p.len() {
-        if p.x[k] < p.x[lo] {
-            lo = k;
-        }
-        if p.x[k] > p.x[hi] {
-            hi = k;
-        }
-    }
-    (lo, hi)
-}
-
-/// A not-a-knot cubic spline of particle values over the particle positions.
-fn particle_spline(particles: &Particles, values: &[f64]) -> Result<CubicSpline> {
-    let mut idx: Vec<usize> = (0..particles.len()).collect();
-    idx.sort_by(|&a, &b| particles.x[a].total_cmp(&particles.x[b]));
-    let x: Vec<f64> = idx.iter().map(|&k| particles.x[k]).collect();
-    let y: Vec<f64> = idx.iter().map(|&k| values[k]).collect();
-    CubicSpline::new(&x, &y, EndCondition::NotAKnot)
-}
-
 /// Gauss points per cell for TLS: n_b ≤ 2 N_g/N_e (TLS paper §5.5), i.e. two
 /// for quadratic TLS, as the paper uses.
 pub const TLS_GAUSS_POINTS: usize = 2;
@@ -166,72 +100,299 @@ fn tls_options() -> TlsOptions {
     }
 }
 
-/// Cells that hold at least one particle (half-open), for TLS.
-fn active_cells(grid: &Grid, particles: &Particles) -> Vec<(f64, f64)> {
-    let cells = grid.cells();
-    let n = cells.len();
-    cells
-        .iter()
-        .enumerate()
-        .filter(|(e, &(a, b))| {
-            particles
-                .x
-                .iter()
-                .any(|&x| (a <= x && x < b) || (*e + 1 == n && x == b))
-        })
-        .map(|(_, c)| *c)
-        .collect()
+/// Quadrature points with the basis evaluated at them.
+#[derive(Debug, Clone, Default)]
+struct QuadratureStencils {
+    points: Vec<QuadraturePoint>,
+    /// The cell of each point (TLS evaluates that cell's fit).
+    cell: Vec<usize>,
+    stencils: Stencils,
 }
 
-/// The internal force vector f_int (book Eq. 4.6 directly, Eq. 4.38 with TLS,
-/// thesis §7.2 with splines).
+impl QuadratureStencils {
+    fn clear(&mut self) {
+        self.points.clear();
+        self.cell.clear();
+    }
+
+    fn push(&mut self, q: QuadraturePoint, cell: usize) {
+        self.points.push(q);
+        self.cell.push(cell);
+    }
+
+    fn evaluate(&mut self, grid: &Grid, scratch: &mut SpanScratch) -> Result<()> {
+        if self.stencils.width() != grid.stencil_width() {
+            self.stencils = grid.stencils(0);
+        }
+        let xs = &self.points;
+        self.stencils.resize(xs.len());
+        for (k, q) in xs.iter().enumerate() {
+            let (v, g) = self.stencils.slots_mut(k);
+            self.stencils.first[k] = grid.evaluate(q.x, scratch, v, g)?;
+        }
+        Ok(())
+    }
+}
+
+/// The buffers of the mappings, allocated once per simulation and reused in
+/// every step.
+#[derive(Debug, Clone)]
+pub struct MappingWorkspace {
+    cells: Vec<(f64, f64)>,
+    rule: GaussLegendre,
+    scratch: SpanScratch,
+    bins: CellBins,
+    tls_scratch: TlsScratch,
+    tls_quadrature: QuadratureStencils,
+    spline_quadrature: QuadratureStencils,
+    /// Particle indices sorted by position (cubic splines).
+    order: Vec<usize>,
+    sorted: (Vec<f64>, Vec<f64>),
+    product: Vec<f64>,
+    cell_mass: Vec<f64>,
+    cell_momentum: Vec<f64>,
+    /// Nodal momentum p of the projection.
+    pub momentum: Vec<f64>,
+    /// Row sums of the projection's mass matrix (its lumped mass).
+    pub lumped: Vec<f64>,
+    /// Diagonal of the projection's mass matrix.
+    pub diagonal: Vec<f64>,
+    /// Nodal velocities v solved by the projection.
+    pub velocity: Vec<f64>,
+    triplets: Vec<(usize, usize, f64)>,
+    active: Vec<usize>,
+    rhs: Vec<f64>,
+}
+
+impl MappingWorkspace {
+    /// Buffers for `grid` and `particles` particles.
+    pub fn new(grid: &Grid, particles: usize) -> Result<Self> {
+        let n = grid.num_dofs();
+        Ok(Self {
+            cells: grid.cells(),
+            rule: GaussLegendre::new(2)?,
+            scratch: SpanScratch::default(),
+            bins: CellBins::default(),
+            tls_scratch: TlsScratch::default(),
+            tls_quadrature: QuadratureStencils::default(),
+            spline_quadrature: QuadratureStencils::default(),
+            order: (0..particles).collect(),
+            sorted: (Vec::with_capacity(particles), Vec::with_capacity(particles)),
+            product: Vec::with_capacity(particles),
+            cell_mass: vec![0.0; grid.num_cells()],
+            cell_momentum: vec![0.0; grid.num_cells()],
+            momentum: vec![0.0; n],
+            lumped: vec![0.0; n],
+            diagonal: vec![0.0; n],
+            velocity: vec![0.0; n],
+            triplets: Vec::new(),
+            active: Vec::with_capacity(n),
+            rhs: Vec::with_capacity(n),
+        })
+    }
+
+    /// Prepares what the mappings of this step need from the particles at
+    /// x^t: the particles binned by cell and the quadrature stencils of TLS
+    /// (Gauss points of the cells that hold particles) and of the cubic
+    /// splines (the half-span rule restricted to Ω_t). Call once per step,
+    /// before [`internal_force`] and [`project_velocity`].
+    pub fn begin_step(
+        &mut self,
+        grid: &Grid,
+        particles: &Particles,
+        mappings: &[Mapping],
+    ) -> Result<()> {
+        if mappings.contains(&Mapping::Tls) {
+            self.bin_particles(grid, particles)?;
+            self.tls_quadrature_points(grid)?;
+        }
+        if mappings.contains(&Mapping::CubicSpline) {
+            self.spline_quadrature_points(grid, particles)?;
+        }
+        Ok(())
+    }
+
+    fn bin_particles(&mut self, grid: &Grid, particles: &Particles) -> Result<()> {
+        let x = &particles.x;
+        self.bins.fill(grid.num_cells(), x.len(), |k| {
+            Ok((grid.cell_of(x[k])?, None))
+        })
+    }
+
+    /// Two Gauss points on every cell that holds a particle (book Eq. 4.38).
+    fn tls_quadrature_points(&mut self, grid: &Grid) -> Result<()> {
+        let q = &mut self.tls_quadrature;
+        q.clear();
+        for e in 0..grid.num_cells() {
+            if self.bins.count(e) == 0 {
+                continue;
+            }
+            let (a, b) = grid.cell_bounds(e);
+            for i in 0..TLS_GAUSS_POINTS {
+                q.push(self.rule.point(i, a, b), e);
+            }
+        }
+        q.evaluate(grid, &mut self.scratch)
+    }
+
+    /// The thesis' half-span Gauss points (quadrature::half_span_points)
+    /// restricted to the continuum Ω_t ≈ [x_1 − V_1/2, x_N + V_N/2] (thesis
+    /// §7.2, Figs. 7.3–7.4): on each half span, both points are kept if both
+    /// lie inside; otherwise the 2-point rule is redefined on the part of the
+    /// half span inside Ω_t, and the half span is dropped if it misses Ω_t.
+    fn spline_quadrature_points(&mut self, grid: &Grid, particles: &Particles) -> Result<()> {
+        let (left, right) = continuum(particles);
+        let q = &mut self.spline_quadrature;
+        q.clear();
+        for e in 0..grid.num_cells() {
+            let (a, b) = grid.cell_bounds(e);
+            let m = 0.5 * (a + b);
+            for (pair, (c, d)) in half_span_points(&self.rule, a, b)
+                .into_iter()
+                .zip([(a, m), (m, b)])
+            {
+                let inside = pair.iter().filter(|q| q.x >= left && q.x <= right).count();
+                if inside == 2 {
+                    pair.into_iter().for_each(|p| q.push(p, e));
+                } else {
+                    let (c2, d2) = (c.max(left), d.min(right));
+                    if d2 > c2 {
+                        for i in 0..2 {
+                            q.push(self.rule.point(i, c2, d2), e);
+                        }
+                    }
+                }
+            }
+        }
+        q.evaluate(grid, &mut self.scratch)
+    }
+}
+
+/// The continuum Ω_t ≈ [x_1 − V_1/2, x_N + V_N/2] spanned by the particles
+/// (thesis §7.2), from the leftmost and rightmost particle.
+fn continuum(p: &Particles) -> (f64, f64) {
+    let mut lo = 0;
+    let mut hi = 0;
+    for k in 0..p.len() {
+        if p.x[k] < p.x[lo] {
+            lo = k;
+        }
+        if p.x[k] > p.x[hi] {
+            hi = k;
+        }
+    }
+    (p.x[lo] - 0.5 * p.volume[lo], p.x[hi] + 0.5 * p.volume[hi])
+}
+
+/// A not-a-knot cubic spline of particle values over the particle positions
+/// (thesis §7.1). `order` keeps the sorting permutation between steps: it is
+/// already sorted unless particles overtook each other.
+fn particle_spline(
+    order: &mut Vec<usize>,
+    sorted: &mut (Vec<f64>, Vec<f64>),
+    particles: &Particles,
+    values: &[f64],
+) -> Result<CubicSpline> {
+    let x = &particles.x;
+    if order.len() != x.len() {
+        *order = (0..x.len()).collect();
+    }
+    order.sort_unstable_by(|&a, &b| x[a].total_cmp(&x[b]));
+    sorted.0.clear();
+    sorted.1.clear();
+    for &k in order.iter() {
+        sorted.0.push(x[k]);
+        sorted.1.push(values[k]);
+    }
+    CubicSpline::new(&sorted.0, &sorted.1, EndCondition::NotAKnot)
+}
+
+/// TLS of particle `values` over particles binned by cell (book Eqs.
+/// 4.33–4.37), conservative when cell integrals are given.
+fn particle_tls(
+    cells: &[(f64, f64)],
+    bins: &CellBins,
+    particles: &Particles,
+    values: &[f64],
+    integrals: Option<&[f64]>,
+    scratch: &mut TlsScratch,
+) -> Result<TlsReconstruction> {
+    reconstruct_binned(
+        cells,
+        bins,
+        &particles.x,
+        values,
+        integrals,
+        tls_options(),
+        scratch,
+    )
+}
+
+/// The internal force vector f_int added into `force` (book Eq. 4.6
+/// directly, Eq. 4.38 with TLS, thesis §7.2 with splines):
+/// f_i = Σ σ_p V_p ∇φ_i(x_p), or ∫ σ̃ ∇φ_i dΩ by the mapping's quadrature.
 pub fn internal_force(
     grid: &Grid,
     particles: &Particles,
-    shapes: &[Shape],
+    stencils: &Stencils,
     mapping: Mapping,
-) -> Result<Vec<f64>> {
-    let n = grid.num_dofs();
-    let mut f = vec![0.0; n];
+    ws: &mut MappingWorkspace,
+    force: &mut [f64],
+) -> Result<()> {
+    check_nodal(grid, force)?;
     match mapping {
         Mapping::Direct => {
-            for (k, s) in shapes.iter().enumerate() {
-                let w = particles.stress[k] * particles.volume[k];
-                for (j, &g) in s.gradients.iter().enumerate() {
-                    f[s.first + j] += w * g;
-                }
-            }
+            stencils.scatter_gradients(|k| particles.stress[k] * particles.volume[k], force);
         }
         Mapping::Tls => {
-            let cells = grid.cells();
-            let tls = reconstruct(&cells, &particles.x, &particles.stress, None, tls_options())?;
-            for q in gauss_on_cells(&active_cells(grid, particles), TLS_GAUSS_POINTS)? {
-                let s = grid.shape(q.x)?;
-                let w = q.weight * tls.evaluate(q.x);
-                for (j, &g) in s.gradients.iter().enumerate() {
-                    f[s.first + j] += w * g;
-                }
-            }
+            let stress = &particles.stress;
+            let tls = particle_tls(
+                &ws.cells,
+                &ws.bins,
+                particles,
+                stress,
+                None,
+                &mut ws.tls_scratch,
+            )?;
+            let q = &ws.tls_quadrature;
+            q.stencils.scatter_gradients(
+                |k| q.points[k].weight * cell_value(&tls, q.cell[k], q.points[k].x),
+                force,
+            );
         }
         Mapping::CubicSpline => {
-            let spline = particle_spline(particles, &particles.stress)?;
-            for q in spline_quadrature(grid, particles)? {
-                let s = grid.shape(q.x)?;
-                let w = q.weight * spline.evaluate(q.x);
-                for (j, &g) in s.gradients.iter().enumerate() {
-                    f[s.first + j] += w * g;
-                }
-            }
+            let stress = &particles.stress;
+            let spline = particle_spline(&mut ws.order, &mut ws.sorted, particles, stress)?;
+            let q = &ws.spline_quadrature;
+            q.stencils.scatter_gradients(
+                |k| q.points[k].weight * spline.evaluate(q.points[k].x),
+                force,
+            );
         }
     }
-    Ok(f)
+    Ok(())
 }
 
-/// The result of a velocity projection, before boundary conditions.
-#[derive(Debug, Clone, PartialEq)]
+fn check_nodal(grid: &Grid, v: &[f64]) -> Result<()> {
+    if v.len() != grid.num_dofs() {
+        return Err(Error::InvalidArgument(format!(
+            "a nodal vector has {} entries for {} DOFs",
+            v.len(),
+            grid.num_dofs()
+        )));
+    }
+    Ok(())
+}
+
+/// The TLS reconstruction in cell e at x (a Gauss point of that cell).
+fn cell_value(tls: &TlsReconstruction, e: usize, x: f64) -> f64 {
+    tls.cells[e].as_ref().map_or(0.0, |fit| fit.evaluate(x))
+}
+
+/// What a velocity projection reports besides the velocities, which it
+/// leaves in [`MappingWorkspace::velocity`] (before boundary conditions).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection {
-    /// Nodal velocities v (zero at DOFs without mass).
-    pub velocity: Vec<f64>,
     /// Total grid mass Σ_ij M_ij of the matrix used.
     pub grid_mass: f64,
     /// Total grid momentum 1ᵀ M v.
@@ -243,145 +404,240 @@ pub struct Projection {
 }
 
 /// Projects the particle velocities (already updated to t + Δt) onto the grid:
-/// book Eq. (4.10) directly, Eqs. (4.39)–(4.44) with TLS, thesis §7.2 with splines.
+/// book Eq. (4.10) directly, Eqs. (4.39)–(4.44) with TLS, thesis §7.2 with
+/// splines. Three steps: assemble M and p, solve M v = p, diagnose.
 pub fn project_velocity(
     grid: &Grid,
     particles: &Particles,
-    shapes: &[Shape],
+    stencils: &Stencils,
     mapping: Mapping,
     mass: MassMatrix,
+    ws: &mut MappingWorkspace,
 ) -> Result<Projection> {
-    let n = grid.num_dofs();
-    let mut p = vec![0.0; n];
-    // Row sums and diagonal are accumulated directly (partition of unity:
-    // Σ_b φ_b = 1, so the row sum of ρw φ_a φ_b is ρw φ_a); the full matrix is
-    // only assembled when the consistent system is solved.
     let consistent = matches!(mass, MassMatrix::Consistent(_));
-    let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
-    let mut lumped = vec![0.0; n];
-    let mut diagonal = vec![0.0; n];
-    let mut add = |s: &Shape, rho_w: f64, mom_w: f64, p: &mut Vec<f64>| {
-        let sum: f64 = s.values.iter().sum();
-        for (a, &fa) in s.values.iter().enumerate() {
-            p[s.first + a] += mom_w * fa;
-            lumped[s.first + a] += rho_w * fa * sum;
-            diagonal[s.first + a] += rho_w * fa * fa;
-            if consistent {
-                for (b, &fb) in s.values.iter().enumerate() {
-                    triplets.push((s.first + a, s.first + b, rho_w * fa * fb));
+    assemble_projection(grid, particles, stencils, mapping, consistent, ws)?;
+    let matrix = if consistent {
+        let n = grid.num_dofs();
+        Some(SparseMatrix::from_triplets(n, n, &ws.triplets)?)
+    } else {
+        None
+    };
+    let solver_iterations = solve_projection(matrix.as_ref(), mass, ws)?;
+    Ok(diagnose_projection(matrix.as_ref(), solver_iterations, ws))
+}
+
+/// The nodal accumulators of the projection: p, the row sums and diagonal
+/// of M, and M's entries as triplets when the consistent system is solved.
+struct Accumulator<'a> {
+    momentum: &'a mut [f64],
+    lumped: &'a mut [f64],
+    diagonal: &'a mut [f64],
+    triplets: &'a mut Vec<(usize, usize, f64)>,
+    consistent: bool,
+}
+
+impl Accumulator<'_> {
+    /// Adds one quadrature point (a particle, or a Gauss point) with the
+    /// weights ρw (mass) and ρvw (momentum). Partition of unity,
+    /// Σ_b φ_b = 1, makes the row sum of ρw φ_a φ_b equal to ρw φ_a.
+    fn add(&mut self, s: &Stencils, k: usize, rho_w: f64, mom_w: f64) {
+        let first = s.first[k];
+        let values = s.values_of(k);
+        let sum: f64 = values.iter().sum();
+        for (a, &fa) in values.iter().enumerate() {
+            self.momentum[first + a] += mom_w * fa;
+            self.lumped[first + a] += rho_w * fa * sum;
+            self.diagonal[first + a] += rho_w * fa * fa;
+            if self.consistent {
+                for (b, &fb) in values.iter().enumerate() {
+                    self.triplets.push((first + a, first + b, rho_w * fa * fb));
                 }
             }
         }
+    }
+}
+
+/// Assembles the momentum p_i = ∫ ρv φ_i and the mass matrix
+/// M_ij = ∫ ρ φ_i φ_j of the projection by the mapping's quadrature:
+/// the particles for the direct mapping (book Eq. 4.10), conservative TLS
+/// of ρ and ρv at the cells' Gauss points (Eqs. 4.39–4.44), or cubic
+/// splines of ρ and v at the half-span points (thesis §7.2).
+pub fn assemble_projection(
+    grid: &Grid,
+    particles: &Particles,
+    stencils: &Stencils,
+    mapping: Mapping,
+    consistent: bool,
+    ws: &mut MappingWorkspace,
+) -> Result<()> {
+    let n = grid.num_dofs();
+    let MappingWorkspace {
+        cells,
+        bins,
+        tls_scratch,
+        tls_quadrature,
+        spline_quadrature,
+        order,
+        sorted,
+        product,
+        cell_mass,
+        cell_momentum,
+        momentum,
+        lumped,
+        diagonal,
+        triplets,
+        ..
+    } = ws;
+    for v in [&mut *momentum, &mut *lumped, &mut *diagonal] {
+        v.clear();
+        v.resize(n, 0.0);
+    }
+    triplets.clear();
+    let mut acc = Accumulator {
+        momentum,
+        lumped,
+        diagonal,
+        triplets,
+        consistent,
     };
     match mapping {
         Mapping::Direct => {
-            for (k, s) in shapes.iter().enumerate() {
+            for k in 0..particles.len() {
                 let m = particles.mass[k];
-                add(s, m, m * particles.v[k], &mut p);
+                acc.add(stencils, k, m, m * particles.v[k]);
             }
         }
         Mapping::Tls => {
-            let cells = grid.cells();
-            let nc = cells.len();
-            let mut cell_mass = vec![0.0; nc];
-            let mut cell_momentum = vec![0.0; nc];
-            for k in 0..particles.len() {
-                let x = particles.x[k];
-                if let Some(e) = cells
-                    .iter()
-                    .enumerate()
-                    .position(|(e, &(a, b))| (a <= x && x < b) || (e + 1 == nc && x == b))
-                {
+            // The cell mass Σ m_p and momentum Σ m_p v_p are the integrals
+            // that conservative TLS prescribes.
+            cell_mass.fill(0.0);
+            cell_momentum.fill(0.0);
+            for e in 0..cells.len() {
+                for &k in bins.points_of(e) {
                     cell_mass[e] += particles.mass[k];
                     cell_momentum[e] += particles.mass[k] * particles.v[k];
                 }
             }
-            let rho_v: Vec<f64> = particles
-                .density
-                .iter()
-                .zip(&particles.v)
-                .map(|(r, v)| r * v)
-                .collect();
-            let rho = reconstruct(
-                &cells,
-                &particles.x,
-                &particles.density,
-                Some(&cell_mass),
-                tls_options(),
+            product.clear();
+            product.extend(
+                particles
+                    .density
+                    .iter()
+                    .zip(&particles.v)
+                    .map(|(r, v)| r * v),
+            );
+            let density = &particles.density;
+            let rho = particle_tls(
+                cells,
+                bins,
+                particles,
+                density,
+                Some(cell_mass),
+                tls_scratch,
             )?;
-            let mom = reconstruct(
-                &cells,
-                &particles.x,
-                &rho_v,
-                Some(&cell_momentum),
-                tls_options(),
+            let mom = particle_tls(
+                cells,
+                bins,
+                particles,
+                product,
+                Some(cell_momentum),
+                tls_scratch,
             )?;
-            for q in gauss_on_cells(&active_cells(grid, particles), TLS_GAUSS_POINTS)? {
-                let s = grid.shape(q.x)?;
-                add(
-                    &s,
-                    q.weight * rho.evaluate(q.x),
-                    q.weight * mom.evaluate(q.x),
-                    &mut p,
+            let q = &*tls_quadrature;
+            for k in 0..q.points.len() {
+                let (x, w, e) = (q.points[k].x, q.points[k].weight, q.cell[k]);
+                acc.add(
+                    &q.stencils,
+                    k,
+                    w * cell_value(&rho, e, x),
+                    w * cell_value(&mom, e, x),
                 );
             }
         }
         Mapping::CubicSpline => {
-            let rho = particle_spline(particles, &particles.density)?;
-            let vel = particle_spline(particles, &particles.v)?;
-            for q in spline_quadrature(grid, particles)? {
-                let s = grid.shape(q.x)?;
-                let r = rho.evaluate(q.x);
-                add(&s, q.weight * r, q.weight * r * vel.evaluate(q.x), &mut p);
+            let rho = particle_spline(order, sorted, particles, &particles.density)?;
+            let vel = particle_spline(order, sorted, particles, &particles.v)?;
+            let q = &*spline_quadrature;
+            for k in 0..q.points.len() {
+                let (x, w) = (q.points[k].x, q.points[k].weight);
+                let r = rho.evaluate(x);
+                acc.add(&q.stencils, k, w * r, w * r * vel.evaluate(x));
             }
         }
     }
-    let full = SparseMatrix::from_triplets(n, n, &triplets)?;
-    let grid_mass: f64 = lumped.iter().sum();
-    // Active DOFs: those the mapped mass reaches.
-    let active: Vec<usize> = (0..n).filter(|&i| diagonal[i] != 0.0).collect();
-    let diag: Vec<f64> = active.iter().map(|&i| diagonal[i]).collect();
-    let dmax = diag.iter().cloned().fold(0.0, f64::max);
-    let dmin = diag.iter().cloned().fold(f64::INFINITY, f64::min);
-    let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };
-    let mut v = vec![0.0; n];
-    let mut solver_iterations = 0;
-    match mass {
-        MassMatrix::Lumped => {
-            for &i in &active {
-                v[i] = p[i] / lumped[i];
-            }
-        }
-        MassMatrix::Consistent(solver) => {
-            let sub = full.submatrix(&active, &active);
-            let rhs: Vec<f64> = active.iter().map(|&i| p[i]).collect();
+    Ok(())
+}
+
+/// Solves M v = p on the active DOFs (those the mapped mass reaches,
+/// M_ii ≠ 0) into [`MappingWorkspace::velocity`]: v_i = p_i / m_i with the
+/// lumped mass, or the consistent system by sparse Cholesky or the thesis'
+/// Richardson iteration (§7.2). Returns the solver's iterations.
+pub fn solve_projection(
+    consistent: Option<&SparseMatrix>,
+    mass: MassMatrix,
+    ws: &mut MappingWorkspace,
+) -> Result<usize> {
+    let n = ws.diagonal.len();
+    ws.active.clear();
+    ws.active.extend((0..n).filter(|&i| ws.diagonal[i] != 0.0));
+    ws.velocity.clear();
+    ws.velocity.resize(n, 0.0);
+    let mut iterations = 0;
+    match (mass, consistent) {
+        (MassMatrix::Consistent(solver), Some(full)) => {
+            let sub = full.submatrix(&ws.active, &ws.active);
+            ws.rhs.clear();
+            ws.rhs.extend(ws.active.iter().map(|&i| ws.momentum[i]));
             let x = match solver {
-                ConsistentSolver::Cholesky => cholesky_solve(&sub, &rhs)?,
+                ConsistentSolver::Cholesky => cholesky_solve(&sub, &ws.rhs)?,
                 ConsistentSolver::Richardson { tolerance } => {
                     let ml = sub.row_sums();
-                    let r = richardson(&sub, &ml, &rhs, tolerance, 100_000)?;
-                    solver_iterations = r.iterations;
+                    let r = richardson(&sub, &ml, &ws.rhs, tolerance, 100_000)?;
+                    iterations = r.iterations;
                     r.solution
                 }
             };
-            for (k, &i) in active.iter().enumerate() {
-                v[i] = x[k];
+            for (k, &i) in ws.active.iter().enumerate() {
+                ws.velocity[i] = x[k];
+            }
+        }
+        _ => {
+            for &i in &ws.active {
+                ws.velocity[i] = ws.momentum[i] / ws.lumped[i];
             }
         }
     }
-    let grid_momentum = match mass {
-        MassMatrix::Lumped => lumped.iter().zip(&v).map(|(m, v)| m * v).sum(),
-        MassMatrix::Consistent(_) => {
-            let mut mv = vec![0.0; n];
-            full.mul_vec(&v, &mut mv);
-            mv.iter().sum()
+    Ok(iterations)
+}
+
+/// The projection's diagnostics (TLS paper Tables 3, 5, 7; thesis §7.2.4):
+/// total grid mass Σ_ij M_ij, grid momentum 1ᵀ M v, and the diagonal ratio
+/// min M_ii / max M_ii over active DOFs.
+pub fn diagnose_projection(
+    consistent: Option<&SparseMatrix>,
+    solver_iterations: usize,
+    ws: &mut MappingWorkspace,
+) -> Projection {
+    let grid_mass: f64 = ws.lumped.iter().sum();
+    let (mut dmax, mut dmin) = (0.0, f64::INFINITY);
+    for &i in &ws.active {
+        dmax = f64::max(dmax, ws.diagonal[i]);
+        dmin = f64::min(dmin, ws.diagonal[i]);
+    }
+    let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };
+    let grid_momentum = match consistent {
+        None => ws.lumped.iter().zip(&ws.velocity).map(|(m, v)| m * v).sum(),
+        Some(full) => {
+            ws.rhs.clear();
+            ws.rhs.resize(ws.velocity.len(), 0.0);
+            full.mul_vec(&ws.velocity, &mut ws.rhs);
+            ws.rhs.iter().sum()
         }
     };
-    Ok(Projection {
-        velocity: v,
+    Projection {
         grid_mass,
         grid_momentum,
         solver_iterations,
         diagonal_ratio,
-    })
+    }
 }

@@ -18,14 +18,21 @@
 //!
 //! This is Euler–Cromer: explicit in velocity, implicit in displacement. DOFs
 //! that receive no mass are inactive (a_i = v_i = 0).
+//!
+//! [`Simulation::step`] reads as this list: one function per numbered step,
+//! each over struct-of-arrays data and a [`StepWorkspace`] that is allocated
+//! when the simulation starts. A step therefore costs O(particles + DOFs)
+//! and, with the direct mapping and a lumped mass, allocates nothing
+//! (tests/allocations.rs). The monitors of a run are recorded in one place,
+//! [`RunDiagnostics`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
-use super::mapping::{
-    internal_force, lumped_mass, particle_shapes, project_velocity, scatter, Mapping, MassMatrix,
-};
+use super::mapping::{internal_force, project_velocity, Mapping, MappingWorkspace, MassMatrix};
 use super::particles::Particles;
+use crate::basis::Stencils;
 use crate::error::{Error, Result};
+use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
 /// The constitutive update of step 7.
@@ -63,6 +70,51 @@ pub struct Settings {
     pub consistent_acceleration: bool,
 }
 
+/// The buffers of one step, allocated when the simulation starts: the basis
+/// at the particles (flat stencils), the nodal vectors, and the per-particle
+/// increments of steps 5–8.
+#[derive(Debug, Clone)]
+pub struct StepWorkspace {
+    /// φ_i(x_p) and (modified) ∇φ_i(x_p) at the start of the step.
+    pub stencils: Stencils,
+    scratch: SpanScratch,
+    /// Lumped nodal mass m_i (Eq. 4.5).
+    pub mass: Vec<f64>,
+    /// Internal force f_int (Eq. 4.6).
+    pub internal_force: Vec<f64>,
+    /// Gravity load Σ_p m_p g φ_i (thesis §3.2).
+    pub gravity_force: Vec<f64>,
+    /// Traction load Σ_p f_p φ_i (thesis §3.2).
+    pub traction_force: Vec<f64>,
+    /// Nodal acceleration a_i (Eq. 4.8).
+    pub acceleration: Vec<f64>,
+    /// The mappings' buffers, and the projected velocity v_i (Eq. 4.10).
+    pub mapping: MappingWorkspace,
+    /// Δε_p of this step (Eq. 4.14).
+    pub strain_increment: Vec<f64>,
+    /// Gradient breaks at or below x_p at the start of the step.
+    breaks_before: Vec<usize>,
+}
+
+impl StepWorkspace {
+    /// Buffers for `grid` and `particles` particles.
+    pub fn new(grid: &Grid, particles: usize) -> Result<Self> {
+        let n = grid.num_dofs();
+        Ok(Self {
+            stencils: grid.stencils(particles),
+            scratch: SpanScratch::default(),
+            mass: vec![0.0; n],
+            internal_force: vec![0.0; n],
+            gravity_force: vec![0.0; n],
+            traction_force: vec![0.0; n],
+            acceleration: vec![0.0; n],
+            mapping: MappingWorkspace::new(grid, particles)?,
+            strain_increment: vec![0.0; particles],
+            breaks_before: vec![0; particles],
+        })
+    }
+}
+
 /// A running simulation.
 #[derive(Debug)]
 pub struct Simulation {
@@ -76,9 +128,10 @@ pub struct Simulation {
     pub time: f64,
     /// Accumulated monitors.
     pub diagnostics: RunDiagnostics,
-    breaks: Vec<f64>,
+    workspace: StepWorkspace,
 }
 
+/// Kinetic plus strain energy Σ_p ½ m_p v_p² + ½ σ_p ε_p V_p.
 fn energy(p: &Particles) -> f64 {
     (0..p.len())
         .map(|k| 0.5 * p.mass[k] * p.v[k] * p.v[k] + 0.5 * p.stress[k] * p.strain[k] * p.volume[k])
@@ -105,20 +158,20 @@ impl Simulation {
             )));
         }
         crate::error::finite("gravity", settings.gravity)?;
-        let breaks = grid.gradient_breaks();
         let diagnostics = RunDiagnostics {
             min_lumped_mass: f64::INFINITY,
             min_mass_diagonal_ratio: f64::INFINITY,
             initial_energy: energy(&particles),
             ..Default::default()
         };
+        let workspace = StepWorkspace::new(&grid, particles.len())?;
         Ok(Self {
             grid,
             particles,
             settings,
             time: 0.0,
             diagnostics,
-            breaks,
+            workspace,
         })
     }
 
@@ -130,130 +183,259 @@ impl Simulation {
         }
     }
 
+    /// The buffers of the last step: the basis at the particles, the nodal
+    /// mass, forces, acceleration and projected velocity.
+    pub fn workspace(&self) -> &StepWorkspace {
+        &self.workspace
+    }
+
     /// One MUSL step of size dt (module docs, steps 1–8).
     pub fn step(&mut self, dt: f64) -> Result<()> {
-        if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
-            return Err(Error::InvalidArgument(format!(
-                "the time step must be positive and finite, got {dt}"
-            )));
+        check_time_step(dt)?;
+        self.evaluate_basis_at_particles()?;
+        self.map_mass_and_loads();
+        self.map_internal_force()?;
+        self.nodal_acceleration()?;
+        self.update_particle_velocities(dt);
+        self.project_nodal_velocities()?;
+        self.update_particle_positions(dt);
+        self.update_stresses();
+        self.update_volumes_and_densities();
+        self.record_particle_monitors();
+        self.time += dt;
+        self.diagnostics.steps += 1;
+        self.check_particles_are_physical()
+    }
+
+    /// `steps` steps of size dt; the final energy is recorded.
+    pub fn run(&mut self, dt: f64, steps: usize) -> Result<()> {
+        for _ in 0..steps {
+            self.step(dt)?;
         }
-        let n = self.grid.num_dofs();
-        let shapes = particle_shapes(&self.grid, &self.particles)?;
+        self.diagnostics.final_energy = energy(&self.particles);
+        Ok(())
+    }
+
+    /// φ_i(x_p) and ∇φ_i(x_p) (or DDMPM's ∇̄φ_i) at every particle, the
+    /// break counts for the crossing monitor, and what the mappings need
+    /// (particles binned by cell, quadrature stencils).
+    fn evaluate_basis_at_particles(&mut self) -> Result<()> {
+        let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
+        if ws.strain_increment.len() != p.len() {
+            ws.strain_increment.resize(p.len(), 0.0);
+            ws.breaks_before.resize(p.len(), 0);
+        }
+        grid.fill_stencils(&p.x, &mut ws.stencils, &mut ws.scratch)?;
+        for (n, &x) in ws.breaks_before.iter_mut().zip(&p.x) {
+            *n = grid.breaks_at_or_below(x);
+        }
+        let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
+        ws.mapping.begin_step(grid, p, &mappings)
+    }
+
+    /// Step 1, book Eq. (4.5) and thesis §3.2: the lumped mass
+    /// m_i = Σ_p m_p φ_i(x_p), and the gravity and traction loads
+    /// Σ_p m_p g φ_i(x_p) and Σ_p f_p^trac φ_i(x_p).
+    fn map_mass_and_loads(&mut self) {
         let g = self.gravity_at(self.time);
-        let p = &mut self.particles;
-        // 1. lumped mass and internal force.
-        let m = lumped_mass(n, p, &shapes);
-        let f_int = internal_force(&self.grid, p, &shapes, self.settings.force_mapping)?;
-        // 2. nodal acceleration.
-        let gravity_weights: Vec<f64> = p.mass.iter().map(|m| m * g).collect();
-        let f_grav = scatter(n, &gravity_weights, &shapes);
-        let f_trac = scatter(n, &p.traction, &shapes);
-        let mut a = vec![0.0; n];
+        let (p, ws) = (&self.particles, &mut self.workspace);
+        for v in [&mut ws.mass, &mut ws.gravity_force, &mut ws.traction_force] {
+            v.fill(0.0);
+        }
+        crate::mass::add_lumped_mass(&ws.stencils, &p.mass, &mut ws.mass);
+        ws.stencils
+            .scatter_values(|k| p.mass[k] * g, &mut ws.gravity_force);
+        ws.stencils
+            .scatter_values(|k| p.traction[k], &mut ws.traction_force);
+    }
+
+    /// Step 1, book Eq. (4.6) (or Eq. 4.38 with TLS, thesis §7.2 with
+    /// splines): the internal force f_i = Σ_p σ_p V_p ∇φ_i(x_p).
+    fn map_internal_force(&mut self) -> Result<()> {
+        let ws = &mut self.workspace;
+        ws.internal_force.fill(0.0);
+        internal_force(
+            &self.grid,
+            &self.particles,
+            &ws.stencils,
+            self.settings.force_mapping,
+            &mut ws.mapping,
+            &mut ws.internal_force,
+        )
+    }
+
+    /// Step 2, book Eq. (4.8): a_i = (f_trac + f_grav − f_int)_i / m_i on DOFs
+    /// with mass (a_i = 0 elsewhere and on Dirichlet DOFs). With
+    /// `consistent_acceleration` the material-point consistent mass replaces
+    /// m_i (book Eq. 4.1). Negative lumped masses (P2, thesis §5.2) are
+    /// recorded.
+    fn nodal_acceleration(&mut self) -> Result<()> {
+        let ws = &mut self.workspace;
+        let d = &mut self.diagnostics;
         let mut negative = false;
-        for i in 0..n {
-            if m[i] == 0.0 {
+        for i in 0..ws.mass.len() {
+            let m = ws.mass[i];
+            ws.acceleration[i] = 0.0;
+            if m == 0.0 {
                 continue;
             }
-            if m[i] < 0.0 {
-                negative = true;
-            }
-            self.diagnostics.min_lumped_mass = self.diagnostics.min_lumped_mass.min(m[i]);
-            a[i] = (f_trac[i] + f_grav[i] - f_int[i]) / m[i];
+            negative |= m < 0.0;
+            d.min_lumped_mass = d.min_lumped_mass.min(m);
+            ws.acceleration[i] =
+                (ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i]) / m;
         }
         if negative {
-            self.diagnostics.negative_mass_steps += 1;
+            d.negative_mass_steps += 1;
         }
         if self.settings.consistent_acceleration {
-            let mc = crate::mass::material_point_mass(self.grid.basis(), &p.x, &p.mass)?;
-            let free: Vec<usize> = (0..n)
-                .filter(|&i| mc.get(i, i) > 0.0 && !self.settings.dirichlet.contains(&i))
-                .collect();
-            let rhs: Vec<f64> = free
-                .iter()
-                .map(|&i| f_trac[i] + f_grav[i] - f_int[i])
-                .collect();
-            let sol = crate::solve::direct::cholesky_solve(&mc.submatrix(&free, &free), &rhs)?;
-            a = vec![0.0; n];
-            for (k, &i) in free.iter().enumerate() {
-                a[i] = sol[k];
-            }
+            self.consistent_nodal_acceleration()?;
         }
-        for &d in &self.settings.dirichlet {
-            a[d] = 0.0;
+        for &i in &self.settings.dirichlet {
+            self.workspace.acceleration[i] = 0.0;
         }
-        // 3. particle velocity.
-        for (k, s) in shapes.iter().enumerate() {
-            let acc: f64 = s
-                .values
-                .iter()
-                .enumerate()
-                .map(|(j, phi)| phi * a[s.first + j])
-                .sum();
-            p.v[k] += dt * acc;
+        Ok(())
+    }
+
+    /// Step 2 with the consistent mass M^C = Σ_p m_p φ φᵀ (sparse Cholesky on
+    /// the DOFs with mass that are not Dirichlet DOFs).
+    fn consistent_nodal_acceleration(&mut self) -> Result<()> {
+        let (p, ws) = (&self.particles, &mut self.workspace);
+        let mc = crate::mass::material_point_mass(self.grid.basis(), &p.x, &p.mass)?;
+        let n = ws.mass.len();
+        let free: Vec<usize> = (0..n)
+            .filter(|&i| mc.get(i, i) > 0.0 && !self.settings.dirichlet.contains(&i))
+            .collect();
+        let rhs: Vec<f64> = free
+            .iter()
+            .map(|&i| ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i])
+            .collect();
+        let sol = crate::solve::direct::cholesky_solve(&mc.submatrix(&free, &free), &rhs)?;
+        ws.acceleration.fill(0.0);
+        for (k, &i) in free.iter().enumerate() {
+            ws.acceleration[i] = sol[k];
         }
-        // 4. nodal velocity.
+        Ok(())
+    }
+
+    /// Step 3, book Eq. (4.9): v_p ← v_p + Δt Σ_i φ_i(x_p) a_i.
+    fn update_particle_velocities(&mut self, dt: f64) {
+        let ws = &self.workspace;
+        for (k, v) in self.particles.v.iter_mut().enumerate() {
+            *v += dt * ws.stencils.interpolate(k, &ws.acceleration);
+        }
+    }
+
+    /// Step 4, book Eq. (4.10) (or Eqs. 4.39–4.44 with TLS, thesis §7.2
+    /// with splines): the nodal velocity from M v = p with the updated
+    /// particle velocities; then v_i = 0 on Dirichlet DOFs. Records the
+    /// projection's conservation errors and velocity extremes.
+    fn project_nodal_velocities(&mut self) -> Result<()> {
+        let p = &self.particles;
         let total_mass = p.total_mass();
         let total_momentum = p.total_momentum();
+        let ws = &mut self.workspace;
         let proj = project_velocity(
             &self.grid,
             p,
-            &shapes,
+            &ws.stencils,
             self.settings.velocity_mapping,
             self.settings.mass,
+            &mut ws.mapping,
         )?;
-        self.diagnostics.solver_iterations += proj.solver_iterations;
-        self.diagnostics.min_mass_diagonal_ratio = self
-            .diagnostics
-            .min_mass_diagonal_ratio
-            .min(proj.diagonal_ratio);
-        let vmax = proj.velocity.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        self.diagnostics.max_nodal_velocity = self.diagnostics.max_nodal_velocity.max(vmax);
+        let v = &mut ws.mapping.velocity;
+        let d = &mut self.diagnostics;
+        d.solver_iterations += proj.solver_iterations;
+        d.min_mass_diagonal_ratio = d.min_mass_diagonal_ratio.min(proj.diagonal_ratio);
+        let vmax = v.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        d.max_nodal_velocity = d.max_nodal_velocity.max(vmax);
         let pmax = p.v.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        self.diagnostics.max_particle_velocity = self.diagnostics.max_particle_velocity.max(pmax);
-        self.diagnostics.max_mass_error = self
-            .diagnostics
+        d.max_particle_velocity = d.max_particle_velocity.max(pmax);
+        d.max_mass_error = d
             .max_mass_error
             .max((proj.grid_mass - total_mass).abs() / total_mass);
         if total_momentum != 0.0 {
             let e = (proj.grid_momentum - total_momentum).abs() / total_momentum.abs();
-            self.diagnostics.max_momentum_error = self.diagnostics.max_momentum_error.max(e);
+            d.max_momentum_error = d.max_momentum_error.max(e);
         }
-        let mut v = proj.velocity;
-        for &d in &self.settings.dirichlet {
-            v[d] = 0.0;
+        for &i in &self.settings.dirichlet {
+            v[i] = 0.0;
         }
-        // 5.–8. particle update.
-        let young = self.settings.young;
-        for (k, s) in shapes.iter().enumerate() {
+        Ok(())
+    }
+
+    /// Steps 5–6, book Eqs. (4.11)–(4.14): Δu_i = Δt v_i; u_p and x_p grow by
+    /// Σ_i φ_i(x_p) Δu_i; the strain increment is Δε_p = Σ_i ∇φ_i(x_p) Δu_i.
+    fn update_particle_positions(&mut self, dt: f64) {
+        let (p, ws) = (&mut self.particles, &mut self.workspace);
+        let v = &ws.mapping.velocity;
+        let s = &ws.stencils;
+        for k in 0..p.len() {
+            let first = s.first[k];
             let mut du = 0.0;
             let mut deps = 0.0;
-            for (j, (phi, grad)) in s.values.iter().zip(&s.gradients).enumerate() {
-                let dui = dt * v[s.first + j];
+            for ((phi, grad), vi) in s
+                .values_of(k)
+                .iter()
+                .zip(s.gradients_of(k))
+                .zip(&v[first..first + s.width()])
+            {
+                let dui = dt * vi;
                 du += phi * dui;
                 deps += grad * dui;
             }
-            let x_old = p.x[k];
             p.u[k] += du;
             p.x[k] += du;
-            p.stress[k] += match self.settings.constitutive {
-                Constitutive::SmallStrain => young * deps,
-                Constitutive::LargeStrain => (young - p.stress[k]) * deps,
-            };
-            p.volume[k] *= 1.0 + deps;
-            p.density[k] /= 1.0 + deps;
-            p.strain[k] += deps;
-            self.diagnostics.max_abs_strain =
-                self.diagnostics.max_abs_strain.max(p.strain[k].abs());
-            let (lo, hi) = if x_old < p.x[k] {
-                (x_old, p.x[k])
-            } else {
-                (p.x[k], x_old)
-            };
-            self.diagnostics.grid_crossings +=
-                self.breaks.iter().filter(|&&b| lo < b && b <= hi).count();
+            ws.strain_increment[k] = deps;
         }
-        self.time += dt;
-        self.diagnostics.steps += 1;
+    }
+
+    /// Step 7: σ_p ← σ_p + E Δε_p (small strain, book Eq. 4.15) or
+    /// σ_p ← σ_p + (E − σ_p) Δε_p (large strain, Eq. 4.16).
+    fn update_stresses(&mut self) {
+        let young = self.settings.young;
+        let deps = &self.workspace.strain_increment;
+        let stress = &mut self.particles.stress;
+        match self.settings.constitutive {
+            Constitutive::SmallStrain => {
+                for (s, de) in stress.iter_mut().zip(deps) {
+                    *s += young * de;
+                }
+            }
+            Constitutive::LargeStrain => {
+                for (s, de) in stress.iter_mut().zip(deps) {
+                    *s += (young - *s) * de;
+                }
+            }
+        }
+    }
+
+    /// Step 8, book Eqs. (4.17)–(4.18): V_p ← (1 + Δε_p) V_p,
+    /// ρ_p ← ρ_p / (1 + Δε_p); the accumulated strain ε_p grows by Δε_p.
+    fn update_volumes_and_densities(&mut self) {
+        let p = &mut self.particles;
+        for (k, &de) in self.workspace.strain_increment.iter().enumerate() {
+            p.volume[k] *= 1.0 + de;
+            p.density[k] /= 1.0 + de;
+            p.strain[k] += de;
+        }
+    }
+
+    /// The per-particle monitors: the largest |ε_p| and the grid crossings
+    /// of this step, |N(x_p^{t+Δt}) − N(x_p^t)| with N(x) the number of
+    /// gradient breaks at or below x (thesis §3.3).
+    fn record_particle_monitors(&mut self) {
+        let (p, ws, d) = (&self.particles, &self.workspace, &mut self.diagnostics);
+        for k in 0..p.len() {
+            d.max_abs_strain = d.max_abs_strain.max(p.strain[k].abs());
+            let after = self.grid.breaks_at_or_below(p.x[k]);
+            d.grid_crossings += after.abs_diff(ws.breaks_before[k]);
+        }
+    }
+
+    /// A typed [`Error::BlowUp`] if a particle's state became non-finite, its
+    /// volume non-positive, or it left the grid.
+    fn check_particles_are_physical(&self) -> Result<()> {
+        let p = &self.particles;
         let bad = (0..p.len()).find(|&k| {
             !(p.x[k].is_finite() && p.v[k].is_finite() && p.stress[k].is_finite())
                 || p.volume[k] <= 0.0
@@ -279,13 +461,14 @@ impl Simulation {
         }
         Ok(())
     }
+}
 
-    /// `steps` steps of size dt; the final energy is recorded.
-    pub fn run(&mut self, dt: f64, steps: usize) -> Result<()> {
-        for _ in 0..steps {
-            self.step(dt)?;
-        }
-        self.diagnostics.final_energy = energy(&self.particles);
-        Ok(())
+/// The time step must be positive and finite.
+fn check_time_step(dt: f64) -> Result<()> {
+    if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
+        return Err(Error::InvalidArgument(format!(
+            "the time step must be positive and finite, got {dt}"
+        )));
     }
+    Ok(())
 }

@@ -88,18 +88,17 @@ impl TaylorBasis {
 
     /// ψ_1(x) … ψ_{n_b}(x), book Eq. (4.31).
     pub fn evaluate(&self, x: f64) -> Vec<f64> {
+        (0..self.order).map(|k| self.function(k, x)).collect()
+    }
+
+    /// ψ_{k+1}(x) alone (k = 0 is ψ_1 = 1), book Eq. (4.31), without allocating.
+    pub fn function(&self, k: usize, x: f64) -> f64 {
+        if k == 0 {
+            return 1.0;
+        }
         let dx = self.half_width();
         let s = x - self.centroid();
-        (0..self.order)
-            .map(|k| {
-                if k == 0 {
-                    1.0
-                } else {
-                    (s.powi(k as i32) - self.average_of_power(k))
-                        / (factorial(k) * dx.powi(k as i32))
-                }
-            })
-            .collect()
+        (s.powi(k as i32) - self.average_of_power(k)) / (factorial(k) * dx.powi(k as i32))
     }
 }
 
@@ -119,11 +118,10 @@ pub struct CellFit {
 impl CellFit {
     /// f̃(x) = Σ α_i ψ_i(x), book Eq. (4.33).
     pub fn evaluate(&self, x: f64) -> f64 {
-        self.basis
-            .evaluate(x)
+        self.coefficients
             .iter()
-            .zip(&self.coefficients)
-            .map(|(p, a)| p * a)
+            .enumerate()
+            .map(|(k, a)| self.basis.function(k, x) * a)
             .sum()
     }
 
@@ -286,13 +284,6 @@ impl TlsReconstruction {
     }
 }
 
-fn in_cell(x: f64, a: f64, b: f64, last: bool, assignment: Assignment) -> bool {
-    match assignment {
-        Assignment::Closed => a <= x && x <= b,
-        Assignment::HalfOpen => (a <= x && x < b) || (last && x == b),
-    }
-}
-
 /// TLS reconstruction over consecutive cells (book Eqs. 4.33–4.37, TLS paper
 /// §5.3–5.4). With `integrals = Some(c)`, cell e conserves c[e]; otherwise
 /// every coefficient is fitted. Data outside every cell is an error.
@@ -337,20 +328,115 @@ pub fn reconstruct(
             return Err(Error::OutsideDomain { x, a: lo, b: hi });
         }
     }
+    let mut bins = CellBins::default();
+    bins.fill(cells.len(), points.len(), |k| {
+        Ok(cells_of_point(cells, points[k], options.assignment))
+    })?;
+    reconstruct_binned(
+        cells,
+        &bins,
+        points,
+        values,
+        integrals,
+        options,
+        &mut TlsScratch::default(),
+    )
+}
+
+/// The cell of x among consecutive cells that cover it, and for a point on
+/// a shared boundary under [`Assignment::Closed`] the second cell.
+fn cells_of_point(cells: &[(f64, f64)], x: f64, assignment: Assignment) -> (usize, Option<usize>) {
+    let e = cells.partition_point(|c| c.0 <= x).max(1) - 1;
+    match assignment {
+        Assignment::Closed if e > 0 && x == cells[e].0 => (e - 1, Some(e)),
+        _ => (e, None),
+    }
+}
+
+/// Data points grouped by cell in one counting-sort pass: the points of
+/// cell e are `points_of(e)`, in input order. Reused between steps, it
+/// allocates only when the data grow.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CellBins {
+    offsets: Vec<usize>,
+    indices: Vec<usize>,
+    cell: Vec<(usize, Option<usize>)>,
+}
+
+impl CellBins {
+    /// Bins `points` data points into `cells` cells; `cells_of(k)` names the
+    /// cell of point k (and a second one for a point that serves two).
+    pub fn fill(
+        &mut self,
+        cells: usize,
+        points: usize,
+        cells_of: impl Fn(usize) -> Result<(usize, Option<usize>)>,
+    ) -> Result<()> {
+        self.offsets.clear();
+        self.offsets.resize(cells + 2, 0);
+        self.cell.clear();
+        for k in 0..points {
+            let (e, f) = cells_of(k)?;
+            self.cell.push((e, f));
+            self.offsets[e + 2] += 1;
+            if let Some(f) = f {
+                self.offsets[f + 2] += 1;
+            }
+        }
+        for e in 2..cells + 2 {
+            self.offsets[e] += self.offsets[e - 1];
+        }
+        // offsets[e + 1] is now the start of cell e; it advances as cell e
+        // is filled and ends as the start of cell e + 1.
+        self.indices.resize(self.offsets[cells + 1], 0);
+        for (k, &(e, f)) in self.cell.iter().enumerate() {
+            for c in std::iter::once(e).chain(f) {
+                self.indices[self.offsets[c + 1]] = k;
+                self.offsets[c + 1] += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Indices of the data points in cell e.
+    pub fn points_of(&self, e: usize) -> &[usize] {
+        &self.indices[self.offsets[e]..self.offsets[e + 1]]
+    }
+
+    /// Number of data points in cell e.
+    pub fn count(&self, e: usize) -> usize {
+        self.offsets[e + 1] - self.offsets[e]
+    }
+}
+
+/// Reusable buffers of [`reconstruct_binned`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TlsScratch {
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+/// [`reconstruct`] on data already grouped by cell ([`CellBins`]): the MPM
+/// step bins its particles once and calls this, so a reconstruction costs
+/// O(points + cells). Same fits, same degenerate-cell repair, same order.
+pub fn reconstruct_binned(
+    cells: &[(f64, f64)],
+    bins: &CellBins,
+    points: &[f64],
+    values: &[f64],
+    integrals: Option<&[f64]>,
+    options: TlsOptions,
+    scratch: &mut TlsScratch,
+) -> Result<TlsReconstruction> {
     let n = cells.len();
-    let data: Vec<(Vec<f64>, Vec<f64>)> = cells
-        .iter()
-        .enumerate()
-        .map(|(e, &(a, b))| {
-            let idx: Vec<usize> = (0..points.len())
-                .filter(|&k| in_cell(points[k], a, b, e + 1 == n, options.assignment))
-                .collect();
-            (
-                idx.iter().map(|&k| points[k]).collect(),
-                idx.iter().map(|&k| values[k]).collect(),
-            )
-        })
-        .collect();
+    let gather = |e: usize, px: &mut Vec<f64>, pv: &mut Vec<f64>| {
+        px.clear();
+        pv.clear();
+        for &k in bins.points_of(e) {
+            px.push(points[k]);
+            pv.push(values[k]);
+        }
+    };
     let attempt = |e: usize, order: usize, px: &[f64], pv: &[f64]| -> Result<Option<CellFit>> {
         let (a, b) = cells[e];
         let c = integrals.map(|c| c[e]);
@@ -366,15 +452,17 @@ pub fn reconstruct(
         )
         .map(Some)
     };
-    let mut fits: Vec<Option<Result<Option<CellFit>>>> = (0..n)
-        .map(|e| Some(attempt(e, options.order, &data[e].0, &data[e].1)))
-        .collect();
-    let mut out: Vec<Option<CellFit>> = vec![None; n];
+    let TlsScratch { x: px, y: pv } = scratch;
+    let mut out: Vec<Option<CellFit>> = Vec::with_capacity(n);
     let mut degenerate = Vec::new();
     for e in 0..n {
-        match fits[e].take().expect("filled above") {
-            Ok(f) => out[e] = f,
-            Err(err) => degenerate.push((e, err)),
+        gather(e, px, pv);
+        match attempt(e, options.order, px, pv) {
+            Ok(f) => out.push(f),
+            Err(err) => {
+                out.push(None);
+                degenerate.push((e, err));
+            }
         }
     }
     for (e, err) in degenerate {
@@ -386,7 +474,7 @@ pub fn reconstruct(
                 )));
             }
             DegenerateCells::ReduceBasis | DegenerateCells::VirtualPoints => {
-                let (mut px, mut pv) = data[e].clone();
+                gather(e, px, pv);
                 let mut added = 0;
                 if options.degenerate == DegenerateCells::VirtualPoints {
                     for (nb, at) in [(e.checked_sub(1), a), (Some(e + 1).filter(|&k| k < n), b)] {
@@ -401,7 +489,7 @@ pub fn reconstruct(
                 }
                 let mut order = options.order;
                 let fitted = loop {
-                    match attempt(e, order, &px, &pv) {
+                    match attempt(e, order, px, pv) {
                         Ok(f) => break f,
                         Err(_) if order > 1 => order -= 1,
                         Err(err) => return Err(err),

@@ -130,40 +130,67 @@ impl KnotVector {
     }
 
     fn evaluate_on_span(&self, span: usize, x: f64, order: usize) -> LocalBasis {
+        let mut scratch = SpanScratch::default();
+        let first = self.evaluate_on_span_into(span, x, order, &mut scratch);
+        let w = self.degree() + 1;
+        LocalBasis {
+            first,
+            derivatives: scratch.ders.chunks(w).map(|row| row.to_vec()).collect(),
+        }
+    }
+
+    /// The triangular scheme of NURBS Book A2.2–A2.3 on span `span` at `x`,
+    /// written into `scratch` (no allocation once the scratch has grown to
+    /// this degree and order): afterwards `scratch.derivative(k)` holds the
+    /// k-th derivatives of the functions `first ..= first + p`. Returns
+    /// `first = span − p`. The caller guarantees that `span` is a non-empty
+    /// span and x lies in its closure.
+    pub(crate) fn evaluate_on_span_into(
+        &self,
+        span: usize,
+        x: f64,
+        order: usize,
+        scratch: &mut SpanScratch,
+    ) -> usize {
         let p = self.degree();
         let t = self.knots();
-        let mut ndu = vec![vec![0.0; p + 1]; p + 1];
-        let mut left = vec![0.0; p + 1];
-        let mut right = vec![0.0; p + 1];
-        ndu[0][0] = 1.0;
+        let w = p + 1;
+        scratch.prepare(w, order);
+        let SpanScratch {
+            ndu,
+            left,
+            right,
+            a,
+            ders,
+            ..
+        } = scratch;
+        ndu[0] = 1.0;
         for j in 1..=p {
             left[j] = x - t[span + 1 - j];
             right[j] = t[span + j] - x;
             let mut saved = 0.0;
             for r in 0..j {
-                ndu[j][r] = right[r + 1] + left[j - r];
-                let temp = ndu[r][j - 1] / ndu[j][r];
-                ndu[r][j] = saved + right[r + 1] * temp;
+                ndu[j * w + r] = right[r + 1] + left[j - r];
+                let temp = ndu[r * w + j - 1] / ndu[j * w + r];
+                ndu[r * w + j] = saved + right[r + 1] * temp;
                 saved = left[j - r] * temp;
             }
-            ndu[j][j] = saved;
+            ndu[j * w + j] = saved;
         }
-        let mut ders = vec![vec![0.0; p + 1]; order + 1];
-        for (j, d) in ders[0].iter_mut().enumerate() {
-            *d = ndu[j][p];
+        for j in 0..w {
+            ders[j] = ndu[j * w + p];
         }
         let n = order.min(p);
-        let mut a = vec![vec![0.0; p + 1]; 2];
         for r in 0..=p {
             let (mut s1, mut s2) = (0usize, 1usize);
-            a[0][0] = 1.0;
+            a[0] = 1.0;
             for k in 1..=n {
                 let mut d = 0.0;
                 let rk = r as isize - k as isize;
                 let pk = p - k;
                 if r >= k {
-                    a[s2][0] = a[s1][0] / ndu[pk + 1][rk as usize];
-                    d = a[s2][0] * ndu[rk as usize][pk];
+                    a[s2 * w] = a[s1 * w] / ndu[(pk + 1) * w + rk as usize];
+                    d = a[s2 * w] * ndu[rk as usize * w + pk];
                 }
                 let j1: usize = if rk >= -1 { 1 } else { (-rk) as usize };
                 let j2: usize = if r as isize - 1 <= pk as isize {
@@ -173,28 +200,39 @@ impl KnotVector {
                 };
                 for j in j1..=j2 {
                     let idx = (rk + j as isize) as usize;
-                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
-                    d += a[s2][j] * ndu[idx][pk];
+                    a[s2 * w + j] = (a[s1 * w + j] - a[s1 * w + j - 1]) / ndu[(pk + 1) * w + idx];
+                    d += a[s2 * w + j] * ndu[idx * w + pk];
                 }
                 if r <= pk {
-                    a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-                    d += a[s2][k] * ndu[r][pk];
+                    a[s2 * w + k] = -a[s1 * w + k - 1] / ndu[(pk + 1) * w + r];
+                    d += a[s2 * w + k] * ndu[r * w + pk];
                 }
-                ders[k][r] = d;
+                ders[k * w + r] = d;
                 std::mem::swap(&mut s1, &mut s2);
             }
         }
         let mut factor = p as f64;
-        for (k, row) in ders.iter_mut().enumerate().take(n + 1).skip(1) {
-            for v in row.iter_mut() {
+        for k in 1..=n {
+            for v in ders[k * w..(k + 1) * w].iter_mut() {
                 *v *= factor;
             }
             factor *= (p - k) as f64;
         }
-        LocalBasis {
-            first: span - p,
-            derivatives: ders,
-        }
+        span - p
+    }
+
+    /// [`KnotVector::local_basis`] into a reusable scratch: finds the span of
+    /// `x` and evaluates the p+1 functions and `order` derivatives there.
+    /// Returns the index of the first function; read the results with
+    /// [`SpanScratch::derivative`].
+    pub fn local_basis_into(
+        &self,
+        x: f64,
+        order: usize,
+        scratch: &mut SpanScratch,
+    ) -> Result<usize> {
+        let span = self.find_span(x)?;
+        Ok(self.evaluate_on_span_into(span, x, order, scratch))
     }
 
     /// All n basis values at `x` as a dense vector (for the CLI and tests).
@@ -205,6 +243,42 @@ impl KnotVector {
     /// All n first derivatives at `x` as a dense vector.
     pub fn dense_derivatives(&self, x: f64) -> Result<Vec<f64>> {
         Ok(self.local_basis(x, 1)?.dense(1, self.num_basis()))
+    }
+}
+
+/// Work arrays of the Cox–de Boor triangle (NURBS Book A2.2–A2.3), reused
+/// between evaluations so that evaluating a B-spline basis allocates nothing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SpanScratch {
+    ndu: Vec<f64>,
+    left: Vec<f64>,
+    right: Vec<f64>,
+    a: Vec<f64>,
+    ders: Vec<f64>,
+    width: usize,
+}
+
+impl SpanScratch {
+    /// Sizes and zeroes the arrays for `width` = p+1 functions and derivatives
+    /// up to `order` (every array starts at zero, as in a fresh evaluation).
+    fn prepare(&mut self, width: usize, order: usize) {
+        self.width = width;
+        for (v, len) in [
+            (&mut self.ndu, width * width),
+            (&mut self.left, width),
+            (&mut self.right, width),
+            (&mut self.a, 2 * width),
+            (&mut self.ders, (order + 1) * width),
+        ] {
+            v.clear();
+            v.resize(len, 0.0);
+        }
+    }
+
+    /// The k-th derivatives of the p+1 functions of the last evaluation
+    /// (k = 0: the values).
+    pub fn derivative(&self, k: usize) -> &[f64] {
+        &self.ders[k * self.width..(k + 1) * self.width]
     }
 }
 

@@ -20,6 +20,11 @@ use crate::error::{finite, Error, Result};
 pub struct KnotVector {
     knots: Vec<f64>,
     degree: usize,
+    /// True when the spans inside the domain are non-empty and of equal
+    /// length (to 1e-9): [`KnotVector::find_span`] then guesses the span from
+    /// the spacing in O(1) and corrects the guess against the knots, so the
+    /// answer is the same as the binary search's.
+    uniform: bool,
 }
 
 impl KnotVector {
@@ -75,7 +80,18 @@ impl KnotVector {
                 knots[degree], knots[n]
             )));
         }
-        Ok(Self { knots, degree })
+        let uniform = Self::has_uniform_spans(&knots, degree, n);
+        Ok(Self {
+            knots,
+            degree,
+            uniform,
+        })
+    }
+
+    /// Spans ξ_i < ξ_{i+1}, p ≤ i < n, all non-empty and of equal length to 1e-9.
+    fn has_uniform_spans(knots: &[f64], p: usize, n: usize) -> bool {
+        let h = (knots[n] - knots[p]) / (n - p) as f64;
+        (p..n).all(|i| ((knots[i + 1] - knots[i]) - h).abs() <= 1e-9 * h)
     }
 
     /// The open uniform knot vector on [a, b] with `spans` knot spans and degree
@@ -158,8 +174,23 @@ impl KnotVector {
         if x == b {
             return Ok(self.last_span());
         }
+        let (p, n) = (self.degree, self.num_basis());
+        if self.uniform {
+            // O(1): guess from the spacing, then correct against the knots
+            // (the guess is off by at most one span).
+            let (a, b) = self.domain();
+            let guess = p + ((x - a) / (b - a) * (n - p) as f64) as usize;
+            let mut i = guess.clamp(p, n - 1);
+            while i + 1 < n && self.knots[i + 1] <= x {
+                i += 1;
+            }
+            while i > p && self.knots[i] > x {
+                i -= 1;
+            }
+            return Ok(i);
+        }
         // Binary search on [p, n): the largest i with knots[i] <= x.
-        let (mut lo, mut hi) = (self.degree, self.num_basis());
+        let (mut lo, mut hi) = (p, n);
         while hi - lo > 1 {
             let mid = (lo + hi) / 2;
             if self.knots[mid] <= x {
