@@ -65,6 +65,42 @@ pub trait Basis1d {
     fn cells(&self) -> Vec<(f64, f64)>;
 }
 
+/// Calls a function generic over `const W: usize` with the stencil width as
+/// a compile-time constant for the widths of the seeds' bases (2, 3, 4; P1,
+/// P2 and quadratic B-splines, cubic B-splines and DDMPM), so that the inner
+/// loops over a stencil are unrolled; `W = 0` stands for any other width.
+/// The arithmetic is the same in every case.
+macro_rules! with_width {
+    ($width:expr, $f:ident::<W>($($arg:expr),*)) => {
+        match $width {
+            2 => $f::<2>($($arg),*),
+            3 => $f::<3>($($arg),*),
+            4 => $f::<4>($($arg),*),
+            _ => $f::<0>($($arg),*),
+        }
+    };
+}
+pub(crate) use with_width;
+
+/// Σ_k w_k s_j(x_k) into out[first_k + j], point by point (the loop of
+/// [`Stencils::scatter_values`] and [`Stencils::scatter_gradients`]);
+/// `W` is the width, or 0 for `width`.
+fn scatter<const W: usize>(
+    first: &[usize],
+    slots: &[f64],
+    width: usize,
+    weight: impl Fn(usize) -> f64,
+    out: &mut [f64],
+) {
+    let w = if W == 0 { width } else { W };
+    for (k, &f) in first.iter().enumerate() {
+        let wk = weight(k);
+        for (o, &s) in out[f..f + w].iter_mut().zip(&slots[k * w..k * w + w]) {
+            *o += wk * s;
+        }
+    }
+}
+
 /// The non-zero basis values and gradients at many points, stored flat.
 ///
 /// Point k owns the `width` entries `values[k·width .. (k+1)·width]`, which
@@ -153,31 +189,19 @@ impl Stencils {
     /// Σ_k w_k φ_i(x_k) added into `out` in point order (book Eq. 4.5 with
     /// w_k = m_p; loads Σ_p m_p g φ_i and Σ_p f_p φ_i of thesis §3.2).
     pub fn scatter_values(&self, weight: impl Fn(usize) -> f64, out: &mut [f64]) {
-        for k in 0..self.len() {
-            let w = weight(k);
-            let first = self.first[k];
-            for (o, &phi) in out[first..first + self.width]
-                .iter_mut()
-                .zip(self.values_of(k))
-            {
-                *o += w * phi;
-            }
-        }
+        with_width!(
+            self.width,
+            scatter::<W>(&self.first, &self.values, self.width, weight, out)
+        )
     }
 
     /// Σ_k w_k ∇φ_i(x_k) added into `out` in point order (book Eq. 4.6 with
     /// w_k = σ_p V_p).
     pub fn scatter_gradients(&self, weight: impl Fn(usize) -> f64, out: &mut [f64]) {
-        for k in 0..self.len() {
-            let w = weight(k);
-            let first = self.first[k];
-            for (o, &g) in out[first..first + self.width]
-                .iter_mut()
-                .zip(self.gradients_of(k))
-            {
-                *o += w * g;
-            }
-        }
+        with_width!(
+            self.width,
+            scatter::<W>(&self.first, &self.gradients, self.width, weight, out)
+        )
     }
 
     /// Σ_i φ_i(x_k) a_i: a nodal field interpolated at point k (book Eq. 4.9).
@@ -188,5 +212,24 @@ impl Stencils {
             .zip(&nodal[first..first + self.width])
             .map(|(phi, a)| phi * a)
             .sum()
+    }
+
+    /// out_k += c · Σ_i φ_i(x_k) a_i for every point k (book Eq. 4.9 with
+    /// c = Δt, a = the nodal acceleration).
+    pub fn add_interpolated(&self, c: f64, nodal: &[f64], out: &mut [f64]) {
+        with_width!(self.width, add_interpolated::<W>(self, c, nodal, out))
+    }
+}
+
+/// The loop of [`Stencils::add_interpolated`]; `W` is the width, or 0.
+fn add_interpolated<const W: usize>(s: &Stencils, c: f64, nodal: &[f64], out: &mut [f64]) {
+    let w = if W == 0 { s.width } else { W };
+    for (k, (o, &f)) in out.iter_mut().zip(&s.first).enumerate() {
+        let sum: f64 = s.values[k * w..k * w + w]
+            .iter()
+            .zip(&nodal[f..f + w])
+            .map(|(phi, a)| phi * a)
+            .sum();
+        *o += c * sum;
     }
 }

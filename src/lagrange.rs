@@ -62,6 +62,10 @@ pub struct LagrangeBasis {
     b: f64,
     elements: usize,
     order: LagrangeOrder,
+    /// h = (b − a)/elements and 1/h, computed once (the MPM step evaluates
+    /// the basis at every particle in every step).
+    h: f64,
+    inverse_h: f64,
 }
 
 impl LagrangeBasis {
@@ -79,11 +83,14 @@ impl LagrangeBasis {
                 "a Lagrange mesh needs at least one element".into(),
             ));
         }
+        let h = (b - a) / elements as f64;
         Ok(Self {
             a,
             b,
             elements,
             order,
+            h,
+            inverse_h: 1.0 / h,
         })
     }
 
@@ -99,7 +106,7 @@ impl LagrangeBasis {
 
     /// Element size h.
     pub fn element_size(&self) -> f64 {
-        (self.b - self.a) / self.elements as f64
+        self.h
     }
 
     /// Node positions: element ends, and for P2 also element mid-points.
@@ -120,7 +127,8 @@ impl LagrangeBasis {
                 b: self.b,
             });
         }
-        let k = ((x - self.a) / self.element_size()).floor() as usize;
+        // x ≥ a, so truncation is the floor (and needs no libm call).
+        let k = ((x - self.a) / self.h) as usize;
         Ok(k.min(self.elements - 1))
     }
 }
@@ -138,12 +146,13 @@ impl LagrangeBasis {
         gradients: &mut [f64],
     ) -> Result<usize> {
         let k = self.element_of(x)?;
-        let h = self.element_size();
+        let h = self.h;
         let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
         match self.order {
             LagrangeOrder::Linear => {
+                // −1/h = −(1/h) exactly: the same numbers as N̂'/h.
                 values[..2].copy_from_slice(&[1.0 - xi, xi]);
-                gradients[..2].copy_from_slice(&[-1.0 / h, 1.0 / h]);
+                gradients[..2].copy_from_slice(&[-self.inverse_h, self.inverse_h]);
             }
             LagrangeOrder::Quadratic => {
                 values[..3].copy_from_slice(&[

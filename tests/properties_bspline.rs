@@ -50,6 +50,29 @@ proptest! {
         }
     }
 
+    /// The MPM step's evaluator (values and gradients into slices, NURBS
+    /// A2.2 with A2.3 at k = 1) gives bit for bit the numbers of the general
+    /// span evaluator, on any knots, also when its scratch was last used for
+    /// another degree or point (A2.2 writes every entry before reading it).
+    #[test]
+    fn mpm_evaluator_is_bitwise_the_span_evaluator(kv in general_knots(), other in open_knots(6, 0.02),
+                                                   f in fractions()) {
+        let mut scratch = hompm::spline::bspline::SpanScratch::default();
+        for basis in [&other, &kv, &other] {
+            let w = basis.degree() + 1;
+            for x in sample_points(basis, &f) {
+                let (mut v, mut g) = (vec![f64::NAN; w], vec![f64::NAN; w]);
+                let first = basis.values_and_gradients_into(x, &mut scratch, &mut v, &mut g).unwrap();
+                let local = basis.local_basis(x, 1).unwrap();
+                prop_assert_eq!(first, local.first);
+                for j in 0..w {
+                    prop_assert_eq!(v[j].to_bits(), local.values()[j].to_bits(), "value {} at {}", j, x);
+                    prop_assert_eq!(g[j].to_bits(), local.gradients()[j].to_bits(), "gradient {} at {}", j, x);
+                }
+            }
+        }
+    }
+
     /// Property 2 of book §4.3: φ_{i,p} vanishes outside [ξ_i, ξ_{i+p+1}].
     #[test]
     fn compact_support(kv in general_knots(), f in fractions()) {

@@ -110,6 +110,8 @@ pub struct Grid {
     boundaries: Vec<f64>,
     /// The sorted points where a basis gradient jumps.
     breaks: Vec<f64>,
+    /// cells/(b − a): turns a position into a guess of its cell.
+    cells_per_length: f64,
 }
 
 impl std::fmt::Debug for Grid {
@@ -169,7 +171,10 @@ impl Grid {
             cells,
             boundaries: Vec::new(),
             breaks: Vec::new(),
+            cells_per_length: 0.0,
         };
+        let (a0, b0) = grid.basis().domain();
+        grid.cells_per_length = cells as f64 / (b0 - a0);
         let spans = grid.basis().cells();
         grid.boundaries = std::iter::once(spans[0].0)
             .chain(spans.iter().map(|c| c.1))
@@ -260,7 +265,7 @@ impl Grid {
             return Err(Error::OutsideDomain { x, a, b });
         }
         let c = &self.boundaries;
-        let mut e = (((x - a) / (b - a) * self.cells as f64) as usize).min(self.cells - 1);
+        let mut e = (((x - a) * self.cells_per_length) as usize).min(self.cells - 1);
         while e + 1 < self.cells && c[e + 1] <= x {
             e += 1;
         }
@@ -277,8 +282,9 @@ impl Grid {
         if br.is_empty() {
             return 0;
         }
-        let (a, b) = self.domain();
-        let guess = ((x - a) / (b - a) * self.cells as f64).max(0.0) as usize;
+        let a = self.boundaries[0];
+        // A negative guess saturates to 0 (float-to-integer casts saturate).
+        let guess = ((x - a) * self.cells_per_length) as usize;
         let mut k = guess.min(br.len());
         while k < br.len() && br[k] <= x {
             k += 1;
@@ -309,10 +315,7 @@ impl Grid {
                 Ok(dual_domain_gradients(dd, k, phi, grad, values, gradients))
             }
             (GridBasis::BSpline(kv), _) => {
-                let first = kv.local_basis_into(x, 1, scratch)?;
-                values.copy_from_slice(scratch.derivative(0));
-                gradients.copy_from_slice(scratch.derivative(1));
-                Ok(first)
+                kv.values_and_gradients_into(x, scratch, values, gradients)
             }
         }
     }
@@ -375,11 +378,13 @@ fn dual_domain_gradients(
     values[k + 1 - first] = phi[1];
     for (a_, &phi_j) in phi.iter().enumerate() {
         let j = k + a_;
+        // (1 − α) φ_j / V_j, shared by the three ∇φ_i that φ_j meets.
+        let weight = (1.0 - alpha) * phi_j / dd.node_volume[j];
         for (slot, gji) in dd.g[j].iter().enumerate() {
             let Some(i) = (j + slot).checked_sub(1).filter(|&i| i < n) else {
                 continue;
             };
-            gradients[i - first] += (1.0 - alpha) * phi_j / dd.node_volume[j] * gji;
+            gradients[i - first] += weight * gji;
         }
     }
     for (a_, &gr) in grad.iter().enumerate() {

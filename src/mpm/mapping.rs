@@ -27,7 +27,7 @@
 
 use super::grid::Grid;
 use super::particles::Particles;
-use crate::basis::Stencils;
+use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::quadrature::{half_span_points, GaussLegendre, QuadraturePoint};
 use crate::reconstruct::cubic_spline::{CubicSpline, EndCondition};
@@ -441,19 +441,41 @@ impl Accumulator<'_> {
     /// weights ρw (mass) and ρvw (momentum). Partition of unity,
     /// Σ_b φ_b = 1, makes the row sum of ρw φ_a φ_b equal to ρw φ_a.
     fn add(&mut self, s: &Stencils, k: usize, rho_w: f64, mom_w: f64) {
-        let first = s.first[k];
-        let values = s.values_of(k);
-        let sum: f64 = values.iter().sum();
-        for (a, &fa) in values.iter().enumerate() {
-            self.momentum[first + a] += mom_w * fa;
-            self.lumped[first + a] += rho_w * fa * sum;
-            self.diagonal[first + a] += rho_w * fa * fa;
-            if self.consistent {
-                for (b, &fb) in values.iter().enumerate() {
-                    self.triplets.push((first + a, first + b, rho_w * fa * fb));
-                }
+        accumulate::<0>(self, s, k, rho_w, mom_w);
+    }
+}
+
+/// [`Accumulator::add`] with the stencil width `W` known at compile time
+/// (0: read it from the stencils).
+fn accumulate<const W: usize>(
+    acc: &mut Accumulator,
+    s: &Stencils,
+    k: usize,
+    rho_w: f64,
+    mom_w: f64,
+) {
+    let w = if W == 0 { s.width() } else { W };
+    let first = s.first[k];
+    let values = &s.values[k * w..k * w + w];
+    let sum: f64 = values.iter().sum();
+    for (a, &fa) in values.iter().enumerate() {
+        acc.momentum[first + a] += mom_w * fa;
+        acc.lumped[first + a] += rho_w * fa * sum;
+        acc.diagonal[first + a] += rho_w * fa * fa;
+        if acc.consistent {
+            for (b, &fb) in values.iter().enumerate() {
+                acc.triplets.push((first + a, first + b, rho_w * fa * fb));
             }
         }
+    }
+}
+
+/// The direct mapping of book Eq. (4.10): every particle is a quadrature
+/// point with mass m_p and momentum m_p v_p.
+fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: &Particles) {
+    for k in 0..p.len() {
+        let m = p.mass[k];
+        accumulate::<W>(acc, s, k, m, m * p.v[k]);
     }
 }
 
@@ -502,10 +524,10 @@ pub fn assemble_projection(
     };
     match mapping {
         Mapping::Direct => {
-            for k in 0..particles.len() {
-                let m = particles.mass[k];
-                acc.add(stencils, k, m, m * particles.v[k]);
-            }
+            with_width!(
+                stencils.width(),
+                accumulate_particles::<W>(&mut acc, stencils, particles)
+            );
         }
         Mapping::Tls => {
             // The cell mass Σ m_p and momentum Σ m_p v_p are the integrals

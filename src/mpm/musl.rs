@@ -30,7 +30,7 @@ use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
 use super::mapping::{internal_force, project_velocity, Mapping, MappingWorkspace, MassMatrix};
 use super::particles::Particles;
-use crate::basis::Stencils;
+use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
@@ -92,8 +92,11 @@ pub struct StepWorkspace {
     pub mapping: MappingWorkspace,
     /// Δε_p of this step (Eq. 4.14).
     pub strain_increment: Vec<f64>,
-    /// Gradient breaks at or below x_p at the start of the step.
+    /// Gradient breaks at or below x_p at the start of the step, and the
+    /// position they were counted at (the count after one step is the count
+    /// before the next unless the position was changed in between).
     breaks_before: Vec<usize>,
+    counted_at: Vec<f64>,
 }
 
 impl StepWorkspace {
@@ -111,6 +114,7 @@ impl StepWorkspace {
             mapping: MappingWorkspace::new(grid, particles)?,
             strain_increment: vec![0.0; particles],
             breaks_before: vec![0; particles],
+            counted_at: vec![f64::NAN; particles],
         })
     }
 }
@@ -224,10 +228,14 @@ impl Simulation {
         if ws.strain_increment.len() != p.len() {
             ws.strain_increment.resize(p.len(), 0.0);
             ws.breaks_before.resize(p.len(), 0);
+            ws.counted_at.resize(p.len(), f64::NAN);
         }
         grid.fill_stencils(&p.x, &mut ws.stencils, &mut ws.scratch)?;
-        for (n, &x) in ws.breaks_before.iter_mut().zip(&p.x) {
-            *n = grid.breaks_at_or_below(x);
+        for k in 0..p.len() {
+            if ws.counted_at[k] != p.x[k] {
+                ws.breaks_before[k] = grid.breaks_at_or_below(p.x[k]);
+                ws.counted_at[k] = p.x[k];
+            }
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
         ws.mapping.begin_step(grid, p, &mappings)
@@ -243,10 +251,16 @@ impl Simulation {
             v.fill(0.0);
         }
         crate::mass::add_lumped_mass(&ws.stencils, &p.mass, &mut ws.mass);
-        ws.stencils
-            .scatter_values(|k| p.mass[k] * g, &mut ws.gravity_force);
-        ws.stencils
-            .scatter_values(|k| p.traction[k], &mut ws.traction_force);
+        // A load with every weight zero stays +0.0, exactly what adding its
+        // ±0 terms would give, so it is skipped.
+        if g != 0.0 {
+            ws.stencils
+                .scatter_values(|k| p.mass[k] * g, &mut ws.gravity_force);
+        }
+        if p.traction.iter().any(|&t| t != 0.0) {
+            ws.stencils
+                .scatter_values(|k| p.traction[k], &mut ws.traction_force);
+        }
     }
 
     /// Step 1, book Eq. (4.6) (or Eq. 4.38 with TLS, thesis §7.2 with
@@ -320,9 +334,8 @@ impl Simulation {
     /// Step 3, book Eq. (4.9): v_p ← v_p + Δt Σ_i φ_i(x_p) a_i.
     fn update_particle_velocities(&mut self, dt: f64) {
         let ws = &self.workspace;
-        for (k, v) in self.particles.v.iter_mut().enumerate() {
-            *v += dt * ws.stencils.interpolate(k, &ws.acceleration);
-        }
+        ws.stencils
+            .add_interpolated(dt, &ws.acceleration, &mut self.particles.v);
     }
 
     /// Step 4, book Eq. (4.10) (or Eqs. 4.39–4.44 with TLS, thesis §7.2
@@ -367,26 +380,9 @@ impl Simulation {
     /// Σ_i φ_i(x_p) Δu_i; the strain increment is Δε_p = Σ_i ∇φ_i(x_p) Δu_i.
     fn update_particle_positions(&mut self, dt: f64) {
         let (p, ws) = (&mut self.particles, &mut self.workspace);
-        let v = &ws.mapping.velocity;
-        let s = &ws.stencils;
-        for k in 0..p.len() {
-            let first = s.first[k];
-            let mut du = 0.0;
-            let mut deps = 0.0;
-            for ((phi, grad), vi) in s
-                .values_of(k)
-                .iter()
-                .zip(s.gradients_of(k))
-                .zip(&v[first..first + s.width()])
-            {
-                let dui = dt * vi;
-                du += phi * dui;
-                deps += grad * dui;
-            }
-            p.u[k] += du;
-            p.x[k] += du;
-            ws.strain_increment[k] = deps;
-        }
+        let (s, v) = (&ws.stencils, &ws.mapping.velocity);
+        let deps = &mut ws.strain_increment;
+        with_width!(s.width(), update_positions::<W>(p, s, v, dt, deps));
     }
 
     /// Step 7: σ_p ← σ_p + E Δε_p (small strain, book Eq. 4.15) or
@@ -424,11 +420,13 @@ impl Simulation {
     /// of this step, |N(x_p^{t+Δt}) − N(x_p^t)| with N(x) the number of
     /// gradient breaks at or below x (thesis §3.3).
     fn record_particle_monitors(&mut self) {
-        let (p, ws, d) = (&self.particles, &self.workspace, &mut self.diagnostics);
+        let (p, ws, d) = (&self.particles, &mut self.workspace, &mut self.diagnostics);
         for k in 0..p.len() {
             d.max_abs_strain = d.max_abs_strain.max(p.strain[k].abs());
             let after = self.grid.breaks_at_or_below(p.x[k]);
             d.grid_crossings += after.abs_diff(ws.breaks_before[k]);
+            ws.breaks_before[k] = after;
+            ws.counted_at[k] = p.x[k];
         }
     }
 
@@ -460,6 +458,33 @@ impl Simulation {
             )));
         }
         Ok(())
+    }
+}
+
+/// The loop of [`Simulation::update_particle_positions`] with the stencil
+/// width `W` known at compile time (0: read it from the stencils).
+fn update_positions<const W: usize>(
+    p: &mut Particles,
+    s: &Stencils,
+    v: &[f64],
+    dt: f64,
+    strain_increment: &mut [f64],
+) {
+    let w = if W == 0 { s.width() } else { W };
+    for (k, increment) in strain_increment.iter_mut().enumerate() {
+        let first = s.first[k];
+        let mut du = 0.0;
+        let mut deps = 0.0;
+        let values = &s.values[k * w..k * w + w];
+        let gradients = &s.gradients[k * w..k * w + w];
+        for ((phi, grad), vi) in values.iter().zip(gradients).zip(&v[first..first + w]) {
+            let dui = dt * vi;
+            du += phi * dui;
+            deps += grad * dui;
+        }
+        p.u[k] += du;
+        p.x[k] += du;
+        *increment = deps;
     }
 }
 

@@ -221,6 +221,66 @@ impl KnotVector {
         span - p
     }
 
+    /// The p+1 values and first derivatives at `x`, written straight into
+    /// `values` and `gradients` (each p+1 long): the specialisation of
+    /// [`KnotVector::local_basis`] with order 1 that the MPM step calls for
+    /// every particle. Book Eqs. (4.19)–(4.20) by the triangle of NURBS Book
+    /// A2.2; the derivative is A2.3 at k = 1, which reduces to book Eq. (4.23):
+    /// φ'_{r} = p (ndu[r−1][p−1]/ndu[p][r−1] − ndu[r][p−1]/ndu[p][r]), with
+    /// the same operations in the same order, so the numbers are bit for bit
+    /// those of `local_basis(x, 1)` (tests/properties_bspline.rs). Returns
+    /// the index of the first function.
+    pub fn values_and_gradients_into(
+        &self,
+        x: f64,
+        scratch: &mut SpanScratch,
+        values: &mut [f64],
+        gradients: &mut [f64],
+    ) -> Result<usize> {
+        let span = self.find_span(x)?;
+        let p = self.degree();
+        let t = self.knots();
+        let w = p + 1;
+        scratch.ensure(w);
+        let SpanScratch {
+            ndu, left, right, ..
+        } = scratch;
+        // NURBS Book A2.2: ndu[j][r] (r < j) holds the knot differences,
+        // ndu[r][j] (r ≤ j) the functions of degree j.
+        ndu[0] = 1.0;
+        for j in 1..=p {
+            left[j] = x - t[span + 1 - j];
+            right[j] = t[span + j] - x;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j * w + r] = right[r + 1] + left[j - r];
+                let temp = ndu[r * w + j - 1] / ndu[j * w + r];
+                ndu[r * w + j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j * w + j] = saved;
+        }
+        for r in 0..w {
+            values[r] = ndu[r * w + p];
+        }
+        if p == 0 {
+            gradients[0] = 0.0;
+            return Ok(span);
+        }
+        let pf = p as f64;
+        for r in 0..w {
+            let mut d = 0.0;
+            if r >= 1 {
+                d = 1.0 / ndu[p * w + r - 1] * ndu[(r - 1) * w + p - 1];
+            }
+            if r < p {
+                d += -1.0 / ndu[p * w + r] * ndu[r * w + p - 1];
+            }
+            gradients[r] = d * pf;
+        }
+        Ok(span - p)
+    }
+
     /// [`KnotVector::local_basis`] into a reusable scratch: finds the span of
     /// `x` and evaluates the p+1 functions and `order` derivatives there.
     /// Returns the index of the first function; read the results with
@@ -273,6 +333,18 @@ impl SpanScratch {
             v.clear();
             v.resize(len, 0.0);
         }
+    }
+
+    /// Sizes the triangle and knot-difference arrays for `width` = p+1
+    /// functions without zeroing them: A2.2 writes every entry before it
+    /// reads it.
+    fn ensure(&mut self, width: usize) {
+        if self.ndu.len() != width * width {
+            self.ndu.resize(width * width, 0.0);
+            self.left.resize(width, 0.0);
+            self.right.resize(width, 0.0);
+        }
+        self.width = width;
     }
 
     /// The k-th derivatives of the p+1 functions of the last evaluation

@@ -25,6 +25,8 @@ pub struct KnotVector {
     /// the spacing in O(1) and corrects the guess against the knots, so the
     /// answer is the same as the binary search's.
     uniform: bool,
+    /// (n − p)/(b − a): spans per unit length, for the O(1) guess.
+    spans_per_length: f64,
 }
 
 impl KnotVector {
@@ -81,10 +83,12 @@ impl KnotVector {
             )));
         }
         let uniform = Self::has_uniform_spans(&knots, degree, n);
+        let spans_per_length = (n - degree) as f64 / (knots[n] - knots[degree]);
         Ok(Self {
             knots,
             degree,
             uniform,
+            spans_per_length,
         })
     }
 
@@ -178,8 +182,7 @@ impl KnotVector {
         if self.uniform {
             // O(1): guess from the spacing, then correct against the knots
             // (the guess is off by at most one span).
-            let (a, b) = self.domain();
-            let guess = p + ((x - a) / (b - a) * (n - p) as f64) as usize;
+            let guess = p + ((x - self.knots[p]) * self.spans_per_length) as usize;
             let mut i = guess.clamp(p, n - 1);
             while i + 1 < n && self.knots[i + 1] <= x {
                 i += 1;

@@ -1,0 +1,114 @@
+//! A steady-state MUSL step allocates nothing (direct mapping, lumped mass),
+//! and the reconstructions allocate the same bounded amount every step.
+//!
+//! This test binary installs a counting global allocator. The count is kept
+//! per thread, so tests running in parallel do not see each other's
+//! allocations.
+
+use hompm::mpm::grid::Method;
+use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use hompm::mpm::musl::Simulation;
+use hompm::scenes::{vibrating_bar, Discretisation};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct CountingAllocator;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count_one() {
+    // try_with: the thread-local may already be gone while a thread exits.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: every call is forwarded unchanged to the system allocator; the
+// counter only reads and writes a thread-local integer.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count_one();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count_one();
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count_one();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(|c| c.get())
+}
+
+/// The vibrating bar of thesis Table 4.1 with the given discretisation.
+fn bar(d: Discretisation) -> Simulation {
+    vibrating_bar::parameters("thesis-table-4.1")
+        .unwrap()
+        .simulation(&d)
+        .unwrap()
+}
+
+/// Allocations of each of `steps` steps of 1e-5 s.
+fn allocations_per_step(sim: &mut Simulation, steps: usize) -> Vec<usize> {
+    (0..steps)
+        .map(|_| {
+            let before = allocations();
+            sim.step(1e-5).unwrap();
+            allocations() - before
+        })
+        .collect()
+}
+
+#[test]
+fn direct_mapping_with_lumped_mass_allocates_nothing_after_the_first_step() {
+    for method in [
+        Method::Mpm,
+        Method::MpmP2,
+        Method::Ddmpm,
+        Method::Bsmpm { degree: 2 },
+        Method::Bsmpm { degree: 3 },
+    ] {
+        let mut sim = bar(Discretisation::direct(method, 32, 4));
+        sim.step(1e-5).unwrap();
+        let counts = allocations_per_step(&mut sim, 20);
+        assert!(
+            counts.iter().all(|&c| c == 0),
+            "{method:?}: allocations per step {counts:?}"
+        );
+    }
+}
+
+#[test]
+fn reconstruction_allocations_do_not_grow_with_the_number_of_steps() {
+    let cholesky = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let richardson = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    for (mapping, mass) in [
+        (Mapping::Tls, MassMatrix::Lumped),
+        (Mapping::Tls, cholesky),
+        (Mapping::CubicSpline, cholesky),
+        (Mapping::CubicSpline, richardson),
+        (Mapping::Direct, cholesky),
+    ] {
+        let d = Discretisation::new(Method::Bsmpm { degree: 2 }, mapping, mass, 32, 4);
+        let mut sim = bar(d);
+        sim.step(1e-5).unwrap();
+        let early = allocations_per_step(&mut sim, 5);
+        allocations_per_step(&mut sim, 100);
+        let late = allocations_per_step(&mut sim, 5);
+        let bound = early.iter().max().copied().unwrap_or(0);
+        assert!(
+            late.iter().all(|&c| c <= bound),
+            "{mapping:?} {mass:?}: {early:?} early, {late:?} after 100 more steps"
+        );
+    }
+}
