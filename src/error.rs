@@ -76,3 +76,17 @@ pub fn finite(what: &str, x: f64) -> Result<f64> {
         })
     }
 }
+
+/// [`finite`] for a quantity whose name has to be formatted (an index, a
+/// particle): the name is built only when the check fails, so checking a
+/// long array in a time step does not format a string per entry.
+pub fn finite_named(x: f64, what: impl FnOnce() -> String) -> Result<f64> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(Error::NonFinite {
+            what: what(),
+            value: x,
+        })
+    }
+}

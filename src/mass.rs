@@ -6,6 +6,7 @@
 //! Eq. 4.4). The assembly from element matrices, M = Σ_e T_eᵀ M_e T_e, is
 //! thesis Appendix A.1.
 
+use crate::error::finite_named;
 use crate::error::{Error, Result};
 use nalgebra::DMatrix;
 
@@ -153,8 +154,8 @@ fn check_particles(positions: &[f64], masses: &[f64]) -> Result<()> {
         )));
     }
     for (k, (&x, &m)) in positions.iter().zip(masses).enumerate() {
-        finite(&format!("position of particle {k}"), x)?;
-        finite(&format!("mass of particle {k}"), m)?;
+        finite_named(x, || format!("position of particle {k}"))?;
+        finite_named(m, || format!("mass of particle {k}"))?;
     }
     Ok(())
 }

@@ -36,7 +36,7 @@ use crate::reconstruct::taylor::{
 };
 use crate::solve::direct::cholesky_solve;
 use crate::solve::richardson::richardson;
-use crate::sparse::SparseMatrix;
+use crate::sparse::{BandAssembly, SparseMatrix};
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
@@ -159,7 +159,7 @@ pub struct MappingWorkspace {
     pub diagonal: Vec<f64>,
     /// Nodal velocities v solved by the projection.
     pub velocity: Vec<f64>,
-    triplets: Vec<(usize, usize, f64)>,
+    band: BandAssembly,
     active: Vec<usize>,
     rhs: Vec<f64>,
 }
@@ -185,7 +185,7 @@ impl MappingWorkspace {
             lumped: vec![0.0; n],
             diagonal: vec![0.0; n],
             velocity: vec![0.0; n],
-            triplets: Vec::new(),
+            band: BandAssembly::default(),
             active: Vec::with_capacity(n),
             rhs: Vec::with_capacity(n),
         })
@@ -417,8 +417,7 @@ pub fn project_velocity(
     let consistent = matches!(mass, MassMatrix::Consistent(_));
     assemble_projection(grid, particles, stencils, mapping, consistent, ws)?;
     let matrix = if consistent {
-        let n = grid.num_dofs();
-        Some(SparseMatrix::from_triplets(n, n, &ws.triplets)?)
+        Some(ws.band.to_sparse()?)
     } else {
         None
     };
@@ -427,12 +426,12 @@ pub fn project_velocity(
 }
 
 /// The nodal accumulators of the projection: p, the row sums and diagonal
-/// of M, and M's entries as triplets when the consistent system is solved.
+/// of M, and M's entries when the consistent system is solved.
 struct Accumulator<'a> {
     momentum: &'a mut [f64],
     lumped: &'a mut [f64],
     diagonal: &'a mut [f64],
-    triplets: &'a mut Vec<(usize, usize, f64)>,
+    band: &'a mut BandAssembly,
     consistent: bool,
 }
 
@@ -464,7 +463,7 @@ fn accumulate<const W: usize>(
         acc.diagonal[first + a] += rho_w * fa * fa;
         if acc.consistent {
             for (b, &fb) in values.iter().enumerate() {
-                acc.triplets.push((first + a, first + b, rho_w * fa * fb));
+                acc.band.add(first + a, first + b, rho_w * fa * fb);
             }
         }
     }
@@ -507,19 +506,21 @@ pub fn assemble_projection(
         momentum,
         lumped,
         diagonal,
-        triplets,
+        band,
         ..
     } = ws;
     for v in [&mut *momentum, &mut *lumped, &mut *diagonal] {
         v.clear();
         v.resize(n, 0.0);
     }
-    triplets.clear();
+    if consistent {
+        band.reset(n, stencils.width() - 1);
+    }
     let mut acc = Accumulator {
         momentum,
         lumped,
         diagonal,
-        triplets,
+        band,
         consistent,
     };
     match mapping {

@@ -6,7 +6,7 @@
 //! is kept because the seeds compare with analytic solutions in the
 //! reference configuration (thesis §2.2).
 
-use crate::error::{finite, Error, Result};
+use crate::error::{finite_named, Error, Result};
 
 /// Particles as a struct of arrays.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,9 +56,9 @@ impl Particles {
             return Err(Error::InvalidArgument("no particles".into()));
         }
         for k in 0..n {
-            finite(&format!("position of particle {k}"), x0[k])?;
-            finite(&format!("velocity of particle {k}"), velocity[k])?;
-            finite(&format!("stress of particle {k}"), stress[k])?;
+            finite_named(x0[k], || format!("position of particle {k}"))?;
+            finite_named(velocity[k], || format!("velocity of particle {k}"))?;
+            finite_named(stress[k], || format!("stress of particle {k}"))?;
             if volume[k].is_nan() || volume[k] <= 0.0 || density[k].is_nan() || density[k] <= 0.0 {
                 return Err(Error::InvalidArgument(format!(
                     "particle {k} needs positive volume and density, got V = {}, ρ = {}",

@@ -18,7 +18,7 @@
 //! With fewer than four points, not-a-knot degrades to the interpolating
 //! parabola (3 points) or line (2 points); natural works from 2 points.
 
-use crate::error::{finite, Error, Result};
+use crate::error::{finite_named, Error, Result};
 
 /// End condition of the cubic spline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,8 +54,8 @@ impl CubicSpline {
             ));
         }
         for (k, (&a, &b)) in x.iter().zip(y).enumerate() {
-            finite(&format!("abscissa {k}"), a)?;
-            finite(&format!("value {k}"), b)?;
+            finite_named(a, || format!("abscissa {k}"))?;
+            finite_named(b, || format!("value {k}"))?;
         }
         if let Some(k) = (1..x.len()).find(|&k| x[k] <= x[k - 1]) {
             return Err(Error::InvalidArgument(format!(

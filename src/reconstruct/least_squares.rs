@@ -6,8 +6,9 @@
 //! F = [f_1 … f_N]ᵀ. The condition number κ(D) is reported because it detects
 //! data layouts that make the fit meaningless (TLS paper §5.3).
 
-use crate::error::{finite, Error, Result};
-use nalgebra::{DMatrix, DVector};
+use crate::error::{finite_named, Error, Result};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, Dyn, OMatrix, OVector, U1};
 
 /// A least-squares fit: coefficients α and κ(D).
 #[derive(Debug, Clone, PartialEq)]
@@ -36,10 +37,21 @@ pub fn normal_matrix(rows: &[Vec<f64>], nb: usize) -> DMatrix<f64> {
 
 /// κ₂ of a symmetric positive semi-definite matrix (∞ if λ_min ≤ 0).
 pub fn symmetric_condition_number(d: &DMatrix<f64>) -> f64 {
+    condition_number_of(d.clone())
+}
+
+/// κ₂ = λ_max/λ_min by nalgebra's symmetric eigenvalues, for any storage:
+/// a fixed-size and a dynamic matrix give bit for bit the same numbers
+/// (the same generic algorithm), so small systems live on the stack.
+fn condition_number_of<D>(d: OMatrix<f64, D, D>) -> f64
+where
+    D: Dim + DimSub<U1>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
+{
     if d.nrows() == 0 {
         return 1.0;
     }
-    let ev = d.clone().symmetric_eigenvalues();
+    let ev = d.symmetric_eigenvalues();
     let max = ev.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     let min = ev.iter().cloned().fold(f64::INFINITY, f64::min);
     if min <= 0.0 || max <= 0.0 {
@@ -62,34 +74,135 @@ pub fn fit(rows: &[Vec<f64>], values: &[f64], nb: usize) -> Result<LeastSquaresF
         )));
     }
     for (k, v) in values.iter().enumerate() {
-        finite(&format!("data value {k}"), *v)?;
+        finite_named(*v, || format!("data value {k}"))?;
     }
-    if nb == 0 {
-        return Ok(LeastSquaresFit {
-            coefficients: vec![],
-            condition_number: 1.0,
-        });
+    fit_rows(
+        rows.len(),
+        nb,
+        |p, out| out.copy_from_slice(&rows[p][..nb]),
+        |p| values[p],
+        None,
+    )
+}
+
+/// Book Eqs. (4.26)–(4.29) for data given point by point: `row(p, ψ)` fills
+/// ψ(x_p) (length `nb`) and `value(p)` is f_p. D = Σ_p ψψᵀ and BF = Σ_p ψ f_p
+/// are accumulated point by point, without a `Vec` per point.
+///
+/// With `max_condition = Some(κ_max)` (a TLS cell, TLS paper §5.3) fewer
+/// than `nb` points, or κ(D) > κ_max, is reported first as
+/// `Error::Singular`; then non-finite data; then κ(D) >
+/// [`SINGULAR_CONDITION`]. Systems of up to four unknowns are solved in
+/// fixed-size (stack) matrices, with the same numbers as dynamic ones.
+pub fn fit_rows(
+    count: usize,
+    nb: usize,
+    row: impl Fn(usize, &mut [f64]),
+    value: impl Fn(usize) -> f64,
+    max_condition: Option<f64>,
+) -> Result<LeastSquaresFit> {
+    let problem = RowProblem {
+        count,
+        row,
+        value,
+        max_condition,
+    };
+    match nb {
+        1 => problem.solve(Const::<1>),
+        2 => problem.solve(Const::<2>),
+        3 => problem.solve(Const::<3>),
+        4 => problem.solve(Const::<4>),
+        _ => problem.solve(Dyn(nb)),
     }
-    let d = normal_matrix(rows, nb);
-    let kappa = symmetric_condition_number(&d);
-    if kappa.is_nan() || kappa > SINGULAR_CONDITION {
-        return Err(Error::Singular(format!(
-            "least-squares matrix D has condition number {kappa:e} ({} data points for {nb} basis functions)",
-            rows.len()
-        )));
-    }
-    let mut bf = DVector::zeros(nb);
-    for (r, v) in rows.iter().zip(values) {
-        for i in 0..nb {
-            bf[i] += r[i] * v;
+}
+
+/// The data of [`fit_rows`].
+struct RowProblem<R, V> {
+    count: usize,
+    row: R,
+    value: V,
+    max_condition: Option<f64>,
+}
+
+impl<R: Fn(usize, &mut [f64]), V: Fn(usize) -> f64> RowProblem<R, V> {
+    fn solve<D>(&self, dim: D) -> Result<LeastSquaresFit>
+    where
+        D: Dim + DimSub<U1>,
+        DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
+    {
+        let nb = dim.value();
+        if self.max_condition.is_some() && self.count < nb {
+            return Err(Error::Singular(format!(
+                "{} data points cannot determine {nb} Taylor coefficients",
+                self.count
+            )));
         }
+        let d = self.normal_matrix(dim);
+        let kappa = condition_number_of(d.clone());
+        if let Some(limit) = self.max_condition {
+            if kappa.is_nan() || kappa > limit {
+                return Err(Error::Singular(format!(
+                    "the least-squares matrix D has condition number {kappa:e} > {limit:e}"
+                )));
+            }
+        }
+        for p in 0..self.count {
+            let v = (self.value)(p);
+            if !v.is_finite() {
+                return Err(Error::NonFinite {
+                    what: format!("data value {p}"),
+                    value: v,
+                });
+            }
+        }
+        if nb == 0 {
+            return Ok(LeastSquaresFit {
+                coefficients: vec![],
+                condition_number: 1.0,
+            });
+        }
+        if kappa.is_nan() || kappa > SINGULAR_CONDITION {
+            return Err(Error::Singular(format!(
+                "least-squares matrix D has condition number {kappa:e} ({} data points for {nb} basis functions)",
+                self.count
+            )));
+        }
+        let mut psi = OVector::<f64, D>::zeros_generic(dim, U1);
+        let mut bf = OVector::<f64, D>::zeros_generic(dim, U1);
+        for p in 0..self.count {
+            (self.row)(p, psi.as_mut_slice());
+            let v = (self.value)(p);
+            for i in 0..nb {
+                bf[i] += psi[i] * v;
+            }
+        }
+        let chol = d.cholesky().ok_or_else(|| {
+            Error::Singular("least-squares matrix D is not positive definite".into())
+        })?;
+        let alpha = chol.solve(&bf);
+        Ok(LeastSquaresFit {
+            coefficients: alpha.iter().copied().collect(),
+            condition_number: kappa,
+        })
     }
-    let chol = d
-        .cholesky()
-        .ok_or_else(|| Error::Singular("least-squares matrix D is not positive definite".into()))?;
-    let alpha = chol.solve(&bf);
-    Ok(LeastSquaresFit {
-        coefficients: alpha.iter().copied().collect(),
-        condition_number: kappa,
-    })
+
+    /// D = Σ_p ψ(x_p) ψ(x_p)ᵀ (book Eq. 4.27), point by point.
+    fn normal_matrix<D>(&self, dim: D) -> OMatrix<f64, D, D>
+    where
+        D: Dim,
+        DefaultAllocator: Allocator<D, D> + Allocator<D>,
+    {
+        let nb = dim.value();
+        let mut d = OMatrix::<f64, D, D>::zeros_generic(dim, dim);
+        let mut psi = OVector::<f64, D>::zeros_generic(dim, U1);
+        for p in 0..self.count {
+            (self.row)(p, psi.as_mut_slice());
+            for i in 0..nb {
+                for j in 0..nb {
+                    d[(i, j)] += psi[i] * psi[j];
+                }
+            }
+        }
+        d
+    }
 }

@@ -21,8 +21,8 @@
 //! evaluated at the shared boundary, added to the data but not to the
 //! constraint — or with a reduced basis, or reported as an error.
 
-use super::least_squares::{fit, normal_matrix, symmetric_condition_number};
-use crate::error::{finite, Error, Result};
+use super::least_squares::fit_rows;
+use crate::error::{finite, finite_named, Error, Result};
 
 /// The Taylor basis of order n_b on one cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,59 +141,54 @@ pub fn fit_cell(
     integral: Option<f64>,
     max_condition: f64,
 ) -> Result<CellFit> {
-    let rows: Vec<Vec<f64>> = points.iter().map(|&x| basis.evaluate(x)).collect();
-    match integral {
+    if points.len() != values.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} basis rows but {} data values",
+            points.len(),
+            values.len()
+        )));
+    }
+    // Conservative TLS fixes α_1 = c/|Ω_e| (Eq. 4.35) and fits ψ_2 … ψ_{n_b}
+    // to f − α_1; unconstrained TLS fits ψ_1 … ψ_{n_b} to f (Eq. 4.36).
+    let (skip, a1) = match integral {
         Some(c) => {
             finite("cell integral", c)?;
-            let a1 = c / basis.volume();
-            if basis.order() == 1 {
-                return Ok(CellFit {
-                    basis,
-                    coefficients: vec![a1],
-                    condition_number: 1.0,
-                    virtual_points: 0,
-                });
+            (1, Some(c / basis.volume()))
+        }
+        None => (0, None),
+    };
+    if let (Some(a1), 1) = (a1, basis.order()) {
+        return Ok(CellFit {
+            basis,
+            coefficients: vec![a1],
+            condition_number: 1.0,
+            virtual_points: 0,
+        });
+    }
+    let shift = a1.unwrap_or(0.0);
+    let f = fit_rows(
+        points.len(),
+        basis.order() - skip,
+        |p, psi| {
+            for (i, v) in psi.iter_mut().enumerate() {
+                *v = basis.function(i + skip, points[p]);
             }
-            let reduced: Vec<Vec<f64>> = rows.iter().map(|r| r[1..].to_vec()).collect();
-            let shifted: Vec<f64> = values.iter().map(|v| v - a1).collect();
-            check_condition(&reduced, basis.order() - 1, max_condition)?;
-            let f = fit(&reduced, &shifted, basis.order() - 1)?;
-            let mut coefficients = vec![a1];
-            coefficients.extend(f.coefficients);
-            Ok(CellFit {
-                basis,
-                coefficients,
-                condition_number: f.condition_number,
-                virtual_points: 0,
-            })
-        }
-        None => {
-            check_condition(&rows, basis.order(), max_condition)?;
-            let f = fit(&rows, values, basis.order())?;
-            Ok(CellFit {
-                basis,
-                coefficients: f.coefficients,
-                condition_number: f.condition_number,
-                virtual_points: 0,
-            })
-        }
-    }
-}
-
-fn check_condition(rows: &[Vec<f64>], nb: usize, max_condition: f64) -> Result<()> {
-    if rows.len() < nb {
-        return Err(Error::Singular(format!(
-            "{} data points cannot determine {nb} Taylor coefficients",
-            rows.len()
-        )));
-    }
-    let kappa = symmetric_condition_number(&normal_matrix(rows, nb));
-    if kappa.is_nan() || kappa > max_condition {
-        return Err(Error::Singular(format!(
-            "the least-squares matrix D has condition number {kappa:e} > {max_condition:e}"
-        )));
-    }
-    Ok(())
+        },
+        |p| match a1 {
+            Some(_) => values[p] - shift,
+            None => values[p],
+        },
+        Some(max_condition),
+    )?;
+    let mut coefficients = Vec::with_capacity(basis.order());
+    coefficients.extend(a1);
+    coefficients.extend(f.coefficients);
+    Ok(CellFit {
+        basis,
+        coefficients,
+        condition_number: f.condition_number,
+        virtual_points: 0,
+    })
 }
 
 /// What to do with a cell whose data cannot determine its TLS fit.
@@ -323,7 +318,7 @@ pub fn reconstruct(
         _ => return Err(Error::InvalidArgument("no cells".into())),
     };
     for (k, &x) in points.iter().enumerate() {
-        finite(&format!("data point {k}"), x)?;
+        finite_named(x, || format!("data point {k}"))?;
         if x < lo || x > hi {
             return Err(Error::OutsideDomain { x, a: lo, b: hi });
         }

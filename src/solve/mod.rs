@@ -77,7 +77,7 @@ pub(crate) fn check_rhs(n: usize, b: &[f64], tol: f64) -> Result<()> {
         )));
     }
     for (i, v) in b.iter().enumerate() {
-        crate::error::finite(&format!("right-hand side entry {i}"), *v)?;
+        crate::error::finite_named(*v, || format!("right-hand side entry {i}"))?;
     }
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(Error::InvalidArgument(format!(

@@ -13,7 +13,7 @@
 //! - no knot may be repeated more than p+1 times (it would create a basis
 //!   function that is identically zero).
 
-use crate::error::{finite, Error, Result};
+use crate::error::{finite, finite_named, Error, Result};
 
 /// A validated knot vector together with the polynomial degree p.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,7 +40,7 @@ impl KnotVector {
             return Err(Error::InvalidKnots("the knot vector is empty".into()));
         }
         for (i, k) in knots.iter().enumerate() {
-            finite(&format!("knot {i}"), *k)?;
+            finite_named(*k, || format!("knot {i}"))?;
         }
         for i in 1..knots.len() {
             if knots[i] < knots[i - 1] {
