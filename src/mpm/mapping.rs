@@ -148,6 +148,8 @@ pub struct MappingWorkspace {
     /// Particle indices sorted by position (cubic splines).
     order: Vec<usize>,
     sorted: (Vec<f64>, Vec<f64>),
+    /// Splines of the last step, whose buffers the next fits reuse.
+    spare_splines: [Option<CubicSpline>; 2],
     product: Vec<f64>,
     cell_mass: Vec<f64>,
     cell_momentum: Vec<f64>,
@@ -186,6 +188,7 @@ impl MappingWorkspace {
             diagonal: vec![0.0; n],
             velocity: vec![0.0; n],
             band: BandAssembly::default(),
+            spare_splines: [None, None],
             active: Vec::with_capacity(n),
             rhs: Vec::with_capacity(n),
         })
@@ -285,11 +288,13 @@ fn continuum(p: &Particles) -> (f64, f64) {
 }
 
 /// A not-a-knot cubic spline of particle values over the particle positions
-/// (thesis §7.1). `order` keeps the sorting permutation between steps: it is
-/// already sorted unless particles overtook each other.
+/// (thesis §7.1), refitted into the buffers of `spare` when there is one.
+/// `order` keeps the sorting permutation between steps: it is already
+/// sorted unless particles overtook each other.
 fn particle_spline(
     order: &mut Vec<usize>,
     sorted: &mut (Vec<f64>, Vec<f64>),
+    spare: &mut Option<CubicSpline>,
     particles: &Particles,
     values: &[f64],
 ) -> Result<CubicSpline> {
@@ -304,7 +309,10 @@ fn particle_spline(
         sorted.0.push(x[k]);
         sorted.1.push(values[k]);
     }
-    CubicSpline::new(&sorted.0, &sorted.1, EndCondition::NotAKnot)
+    match spare.take() {
+        Some(s) => s.refit(&sorted.0, &sorted.1, EndCondition::NotAKnot),
+        None => CubicSpline::new(&sorted.0, &sorted.1, EndCondition::NotAKnot),
+    }
 }
 
 /// TLS of particle `values` over particles binned by cell (book Eqs.
@@ -362,12 +370,14 @@ pub fn internal_force(
         }
         Mapping::CubicSpline => {
             let stress = &particles.stress;
-            let spline = particle_spline(&mut ws.order, &mut ws.sorted, particles, stress)?;
+            let spare = &mut ws.spare_splines[0];
+            let spline = particle_spline(&mut ws.order, &mut ws.sorted, spare, particles, stress)?;
             let q = &ws.spline_quadrature;
             q.stencils.scatter_gradients(
                 |k| q.points[k].weight * spline.evaluate(q.points[k].x),
                 force,
             );
+            ws.spare_splines[0] = Some(spline);
         }
     }
     Ok(())
@@ -500,6 +510,7 @@ pub fn assemble_projection(
         spline_quadrature,
         order,
         sorted,
+        spare_splines,
         product,
         cell_mass,
         cell_momentum,
@@ -578,14 +589,16 @@ pub fn assemble_projection(
             }
         }
         Mapping::CubicSpline => {
-            let rho = particle_spline(order, sorted, particles, &particles.density)?;
-            let vel = particle_spline(order, sorted, particles, &particles.v)?;
+            let [spare_rho, spare_vel] = spare_splines;
+            let rho = particle_spline(order, sorted, spare_rho, particles, &particles.density)?;
+            let vel = particle_spline(order, sorted, spare_vel, particles, &particles.v)?;
             let q = &*spline_quadrature;
             for k in 0..q.points.len() {
                 let (x, w) = (q.points[k].x, q.points[k].weight);
                 let r = rho.evaluate(x);
                 acc.add(&q.stencils, k, w * r, w * r * vel.evaluate(x));
             }
+            (*spare_rho, *spare_vel) = (Some(rho), Some(vel));
         }
     }
     Ok(())

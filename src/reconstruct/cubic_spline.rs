@@ -35,12 +35,46 @@ pub struct CubicSpline {
     x: Vec<f64>,
     y: Vec<f64>,
     second: Vec<f64>,
+    /// Work arrays of the tridiagonal solve, kept so that [`CubicSpline::refit`]
+    /// allocates nothing once they have grown to the data's size.
+    work: Work,
+}
+
+/// h_i, slopes, the tridiagonal rows (sub, diag, sup, rhs) and Thomas'
+/// forward-sweep coefficients.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Work {
+    h: Vec<f64>,
+    slope: Vec<f64>,
+    sub: Vec<f64>,
+    diag: Vec<f64>,
+    sup: Vec<f64>,
+    rhs: Vec<f64>,
+    c: Vec<f64>,
+    d: Vec<f64>,
 }
 
 impl CubicSpline {
     /// Interpolates (x_i, y_i); x must be strictly increasing with at least
     /// two points.
     pub fn new(x: &[f64], y: &[f64], end: EndCondition) -> Result<Self> {
+        let empty = Self {
+            x: Vec::new(),
+            y: Vec::new(),
+            second: Vec::new(),
+            work: Work::default(),
+        };
+        empty.refit(x, y, end)
+    }
+
+    /// Interpolates new data (x_i, y_i), reusing this spline's buffers
+    /// (spline-based MPM refits three splines every step): the same numbers
+    /// as [`CubicSpline::new`]. The spline is consumed, so on an error no
+    /// half-built spline remains.
+    pub fn refit(mut self, x: &[f64], y: &[f64], end: EndCondition) -> Result<Self> {
+        self.x.clear();
+        self.y.clear();
+        self.second.clear();
         if x.len() != y.len() {
             return Err(Error::InvalidArgument(format!(
                 "{} abscissae but {} values",
@@ -66,45 +100,46 @@ impl CubicSpline {
             )));
         }
         let m = x.len();
-        let h: Vec<f64> = (0..m - 1).map(|i| x[i + 1] - x[i]).collect();
-        let slope: Vec<f64> = (0..m - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
-        let mut second = vec![0.0; m];
+        let w = &mut self.work;
+        w.h.clear();
+        w.h.extend((0..m - 1).map(|i| x[i + 1] - x[i]));
+        w.slope.clear();
+        w.slope
+            .extend((0..m - 1).map(|i| (y[i + 1] - y[i]) / w.h[i]));
+        let second = &mut self.second;
+        second.resize(m, 0.0);
         match (end, m) {
             (_, 2) => {}
             (EndCondition::NotAKnot, 3) => {
                 // The parabola through three points: constant s''.
-                let c = 2.0 * (slope[1] - slope[0]) / (x[2] - x[0]);
-                second = vec![c; 3];
+                let c = 2.0 * (w.slope[1] - w.slope[0]) / (x[2] - x[0]);
+                second.fill(c);
             }
             (EndCondition::Natural, _) => {
                 // Interior rows i = 1..m−1 with M_0 = M_{m−1} = 0.
-                let (sub, diag, sup, rhs) = interior_rows(&h, &slope);
-                let inner = thomas(&sub, &diag, &sup, &rhs)?;
-                second[1..m - 1].copy_from_slice(&inner);
+                w.interior_rows();
+                w.thomas(&mut second[1..m - 1])?;
             }
             (EndCondition::NotAKnot, _) => {
                 // Not-a-knot: M_0 = ((h0+h1) M_1 − h0 M_2)/h1 and
                 // M_{m−1} = ((ha+hb) M_{m−2} − hb M_{m−3})/ha (ha = h_{m−3},
                 // hb = h_{m−2}), substituted into the first and last interior rows.
-                let (mut sub, mut diag, mut sup, rhs) = interior_rows(&h, &slope);
+                w.interior_rows();
                 let k = m - 2;
-                let (h0, h1) = (h[0], h[1]);
-                diag[0] += h0 * (h0 + h1) / h1;
-                sup[0] -= h0 * h0 / h1;
-                let (ha, hb) = (h[m - 3], h[m - 2]);
-                diag[k - 1] += hb * (ha + hb) / ha;
-                sub[k - 1] -= hb * hb / ha;
-                let inner = thomas(&sub, &diag, &sup, &rhs)?;
-                second[1..m - 1].copy_from_slice(&inner);
+                let (h0, h1) = (w.h[0], w.h[1]);
+                w.diag[0] += h0 * (h0 + h1) / h1;
+                w.sup[0] -= h0 * h0 / h1;
+                let (ha, hb) = (w.h[m - 3], w.h[m - 2]);
+                w.diag[k - 1] += hb * (ha + hb) / ha;
+                w.sub[k - 1] -= hb * hb / ha;
+                w.thomas(&mut second[1..m - 1])?;
                 second[0] = ((h0 + h1) * second[1] - h0 * second[2]) / h1;
                 second[m - 1] = ((ha + hb) * second[m - 2] - hb * second[m - 3]) / ha;
             }
         }
-        Ok(Self {
-            x: x.to_vec(),
-            y: y.to_vec(),
-            second,
-        })
+        self.x.extend_from_slice(x);
+        self.y.extend_from_slice(y);
+        Ok(self)
     }
 
     /// The interval index used for x (end pieces extended outside).
@@ -135,50 +170,57 @@ impl CubicSpline {
     }
 }
 
-type Rows = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
-
-/// The interior equations h_{i−1} M_{i−1} + 2(h_{i−1}+h_i) M_i + h_i M_{i+1} =
-/// 6(s_i − s_{i−1}) for i = 1..m−1, as (sub, diag, sup, rhs).
-fn interior_rows(h: &[f64], slope: &[f64]) -> Rows {
-    let k = h.len() - 1;
-    let mut rows: Rows = (vec![0.0; k], vec![0.0; k], vec![0.0; k], vec![0.0; k]);
-    for r in 0..k {
-        let i = r + 1;
-        rows.0[r] = h[i - 1];
-        rows.1[r] = 2.0 * (h[i - 1] + h[i]);
-        rows.2[r] = h[i];
-        rows.3[r] = 6.0 * (slope[i] - slope[i - 1]);
+impl Work {
+    /// The interior equations h_{i−1} M_{i−1} + 2(h_{i−1}+h_i) M_i + h_i M_{i+1} =
+    /// 6(s_i − s_{i−1}) for i = 1..m−1, as (sub, diag, sup, rhs).
+    fn interior_rows(&mut self) {
+        let k = self.h.len() - 1;
+        for v in [&mut self.sub, &mut self.diag, &mut self.sup, &mut self.rhs] {
+            v.clear();
+            v.resize(k, 0.0);
+        }
+        let (h, slope) = (&self.h, &self.slope);
+        for r in 0..k {
+            let i = r + 1;
+            self.sub[r] = h[i - 1];
+            self.diag[r] = 2.0 * (h[i - 1] + h[i]);
+            self.sup[r] = h[i];
+            self.rhs[r] = 6.0 * (slope[i] - slope[i - 1]);
+        }
     }
-    rows
-}
 
-/// Thomas algorithm for a tridiagonal system.
-fn thomas(sub: &[f64], diag: &[f64], sup: &[f64], rhs: &[f64]) -> Result<Vec<f64>> {
-    let n = diag.len();
-    let mut c = vec![0.0; n];
-    let mut d = vec![0.0; n];
-    let mut denom = diag[0];
-    if denom == 0.0 {
-        return Err(Error::Singular(
-            "cubic-spline system has a zero pivot".into(),
-        ));
-    }
-    c[0] = sup[0] / denom;
-    d[0] = rhs[0] / denom;
-    for i in 1..n {
-        denom = diag[i] - sub[i] * c[i - 1];
-        if denom == 0.0 || !denom.is_finite() {
+    /// Thomas algorithm for the tridiagonal system (sub, diag, sup, rhs),
+    /// solution into `x`.
+    fn thomas(&mut self, x: &mut [f64]) -> Result<()> {
+        let (sub, diag, sup, rhs) = (&self.sub, &self.diag, &self.sup, &self.rhs);
+        let n = diag.len();
+        let (c, d) = (&mut self.c, &mut self.d);
+        c.clear();
+        c.resize(n, 0.0);
+        d.clear();
+        d.resize(n, 0.0);
+        let mut denom = diag[0];
+        if denom == 0.0 {
             return Err(Error::Singular(
                 "cubic-spline system has a zero pivot".into(),
             ));
         }
-        c[i] = sup[i] / denom;
-        d[i] = (rhs[i] - sub[i] * d[i - 1]) / denom;
+        c[0] = sup[0] / denom;
+        d[0] = rhs[0] / denom;
+        for i in 1..n {
+            denom = diag[i] - sub[i] * c[i - 1];
+            if denom == 0.0 || !denom.is_finite() {
+                return Err(Error::Singular(
+                    "cubic-spline system has a zero pivot".into(),
+                ));
+            }
+            c[i] = sup[i] / denom;
+            d[i] = (rhs[i] - sub[i] * d[i - 1]) / denom;
+        }
+        x[n - 1] = d[n - 1];
+        for i in (0..n - 1).rev() {
+            x[i] = d[i] - c[i] * x[i + 1];
+        }
+        Ok(())
     }
-    let mut x = vec![0.0; n];
-    x[n - 1] = d[n - 1];
-    for i in (0..n - 1).rev() {
-        x[i] = d[i] - c[i] * x[i + 1];
-    }
-    Ok(x)
 }
