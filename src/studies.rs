@@ -10,8 +10,12 @@
 use crate::error::{Error, Result};
 use crate::mpm::diagnostics::rms_error;
 use crate::mpm::grid::Method;
-use crate::mpm::mapping::{Mapping, MassMatrix};
+use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use crate::scenes::{vibrating_bar, Discretisation};
+use crate::solve::cg::{conjugate_gradient, CgVariant};
+use crate::solve::direct::cholesky_solve;
+use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
+use crate::solve::spectrum::spectrum_kronecker;
 use serde::Serialize;
 
 /// Wave transits L/c simulated by [`is_stable`].
@@ -164,12 +168,6 @@ pub fn bar_errors(params: &str, d: &Discretisation, dt: f64, steps: usize) -> Re
     })
 }
 
-use crate::mpm::mapping::ConsistentSolver;
-use crate::solve::cg::{conjugate_gradient, CgVariant};
-use crate::solve::direct::cholesky_solve;
-use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
-use crate::solve::spectrum::spectrum_kronecker;
-
 /// A method of the work-precision chart: label and discretisation maker.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Variant {
@@ -273,6 +271,90 @@ pub fn work_precision(resolutions: &[usize]) -> Result<Vec<WorkPoint>> {
                 cells,
                 error: e.displacement,
                 seconds: e.seconds,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The variants of the speed study: every basis with the direct mapping and
+/// a lumped mass, and quadratic B-splines with each reconstruction.
+pub fn speed_variants() -> Vec<Variant> {
+    let chol = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let rich = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    let bs2 = Method::Bsmpm { degree: 2 };
+    let variant = |label, method, mapping, mass| Variant {
+        label,
+        method,
+        mapping,
+        mass,
+    };
+    vec![
+        variant("MPM", Method::Mpm, Mapping::Direct, MassMatrix::Lumped),
+        variant("DDMPM", Method::Ddmpm, Mapping::Direct, MassMatrix::Lumped),
+        variant("BSMPM p=2", bs2, Mapping::Direct, MassMatrix::Lumped),
+        variant(
+            "BSMPM p=3",
+            Method::Bsmpm { degree: 3 },
+            Mapping::Direct,
+            MassMatrix::Lumped,
+        ),
+        variant(
+            "BSMPM p=2 + TLS (lumped)",
+            bs2,
+            Mapping::Tls,
+            MassMatrix::Lumped,
+        ),
+        variant("BSMPM p=2 + TLS (consistent)", bs2, Mapping::Tls, chol),
+        variant("BSMPM p=2 + CS (Cholesky)", bs2, Mapping::CubicSpline, chol),
+        variant(
+            "BSMPM p=2 + CS (Richardson)",
+            bs2,
+            Mapping::CubicSpline,
+            rich,
+        ),
+    ]
+}
+
+/// One point of the speed study.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SpeedPoint {
+    /// Variant label.
+    pub label: &'static str,
+    /// Number of particles (8 per cell).
+    pub particles: usize,
+    /// Steps timed per repetition.
+    pub steps: usize,
+    /// Best of the repetitions, nanoseconds per particle-step.
+    pub ns_per_particle_step: f64,
+}
+
+/// Cost of a MUSL step against the number of particles, on the thesis' bar
+/// (Table 4.1) with 8 PPC: for each variant and cell count, about 65 536
+/// particle-steps timed `repetitions` times after one warm-up step; the best
+/// time counts. Runs one after the other on one thread, so that nothing else
+/// shares the clock.
+pub fn speed(cells: &[usize], repetitions: usize) -> Result<Vec<SpeedPoint>> {
+    let p = vibrating_bar::parameters("thesis-table-4.1")?;
+    let mut out = Vec::new();
+    for v in speed_variants() {
+        for &c in cells {
+            let d = Discretisation::new(v.method, v.mapping, v.mass, c, 8);
+            let particles = c * d.ppc;
+            let steps = (65_536 / particles).max(2);
+            let mut best = f64::INFINITY;
+            for _ in 0..repetitions.max(1) {
+                let mut sim = p.simulation(&d)?;
+                sim.step(1e-5)?;
+                let start = std::time::Instant::now();
+                sim.run(1e-5, steps)?;
+                best = best.min(start.elapsed().as_secs_f64());
+            }
+            out.push(SpeedPoint {
+                label: v.label,
+                particles,
+                steps,
+                ns_per_particle_step: best * 1e9 / (particles * steps) as f64,
             });
         }
     }

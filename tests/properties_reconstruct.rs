@@ -127,6 +127,33 @@ proptest! {
         prop_assert!(second(&nat, x[0] + h).abs() < 1e-2 * scale / gaps[0].min(1.0));
     }
 
+    /// The cursor evaluation spline-based MPM uses, and a refit into an old
+    /// spline's buffers, give bit for bit the numbers of a fresh spline
+    /// evaluated by binary search, for queries in any order and outside the
+    /// nodes too.
+    #[test]
+    fn spline_cursor_and_refit_are_bitwise_the_plain_evaluation(
+        y in proptest::collection::vec(-2.0f64..2.0, 2..20),
+        gaps in proptest::collection::vec(0.05f64..1.0, 19),
+        old in proptest::collection::vec(-2.0f64..2.0, 2..30),
+        queries in proptest::collection::vec(-0.5f64..12.0, 1..40),
+        natural in any::<bool>()) {
+        let end = if natural { EndCondition::Natural } else { EndCondition::NotAKnot };
+        let mut x = vec![0.0];
+        for g in gaps.iter().take(y.len() - 1) { x.push(x.last().unwrap() + g); }
+        let fresh = CubicSpline::new(&x, &y, end).unwrap();
+        let old_x: Vec<f64> = (0..old.len()).map(|k| k as f64 * 0.3).collect();
+        let reused = CubicSpline::new(&old_x, &old, EndCondition::NotAKnot).unwrap()
+            .refit(&x, &y, end).unwrap();
+        prop_assert_eq!(&reused, &CubicSpline::new(&x, &y, end).unwrap().refit(&x, &y, end).unwrap());
+        let mut cursor = 0;
+        for &t in &queries {
+            let plain = fresh.evaluate(t).to_bits();
+            prop_assert_eq!(reused.evaluate(t).to_bits(), plain);
+            prop_assert_eq!(fresh.evaluate_from(t, &mut cursor).to_bits(), plain);
+        }
+    }
+
     /// MLS paper Eq. (14): the shape functions sum to one and reproduce linear
     /// fields exactly (1D with [1, x], 2D with [1, x, y]).
     #[test]

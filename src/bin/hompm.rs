@@ -724,13 +724,15 @@ fn reproduce(
             ("work-precision", 1),
             ("solvers", 2),
             ("stability", 3),
+            ("speed", 4),
         ] {
             let t = std::time::Instant::now();
             match step {
                 0 => report::convergence_charts(&charts, &mut studies)?,
                 1 => report::work_precision_chart(&charts, quick, &mut studies)?,
                 2 => report::solver_charts(&charts, &reports, quick, &mut studies)?,
-                _ => report::stability_chart(&charts, quick, &mut studies)?,
+                3 => report::stability_chart(&charts, quick, &mut studies)?,
+                _ => report::speed_chart(&charts, quick, &mut studies)?,
             }
             eprintln!("study {name} ({:.1} s)", t.elapsed().as_secs_f64());
         }

@@ -373,8 +373,14 @@ pub fn internal_force(
             let spare = &mut ws.spare_splines[0];
             let spline = particle_spline(&mut ws.order, &mut ws.sorted, spare, particles, stress)?;
             let q = &ws.spline_quadrature;
+            let cursor = std::cell::Cell::new(0);
             q.stencils.scatter_gradients(
-                |k| q.points[k].weight * spline.evaluate(q.points[k].x),
+                |k| {
+                    let mut c = cursor.get();
+                    let value = spline.evaluate_from(q.points[k].x, &mut c);
+                    cursor.set(c);
+                    q.points[k].weight * value
+                },
                 force,
             );
             ws.spare_splines[0] = Some(spline);
@@ -593,10 +599,12 @@ pub fn assemble_projection(
             let rho = particle_spline(order, sorted, spare_rho, particles, &particles.density)?;
             let vel = particle_spline(order, sorted, spare_vel, particles, &particles.v)?;
             let q = &*spline_quadrature;
+            let (mut cursor_rho, mut cursor_vel) = (0, 0);
             for k in 0..q.points.len() {
                 let (x, w) = (q.points[k].x, q.points[k].weight);
-                let r = rho.evaluate(x);
-                acc.add(&q.stencils, k, w * r, w * r * vel.evaluate(x));
+                let r = rho.evaluate_from(x, &mut cursor_rho);
+                let v = vel.evaluate_from(x, &mut cursor_vel);
+                acc.add(&q.stencils, k, w * r, w * r * v);
             }
             (*spare_rho, *spare_vel) = (Some(rho), Some(vel));
         }

@@ -29,8 +29,9 @@ pub enum EndCondition {
     NotAKnot,
 }
 
-/// An interpolating cubic spline.
-#[derive(Debug, Clone, PartialEq)]
+/// An interpolating cubic spline. Two splines are equal when their nodes,
+/// values and second derivatives are (their work arrays do not count).
+#[derive(Debug, Clone)]
 pub struct CubicSpline {
     x: Vec<f64>,
     y: Vec<f64>,
@@ -38,6 +39,12 @@ pub struct CubicSpline {
     /// Work arrays of the tridiagonal solve, kept so that [`CubicSpline::refit`]
     /// allocates nothing once they have grown to the data's size.
     work: Work,
+}
+
+impl PartialEq for CubicSpline {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.x, &self.y, &self.second) == (&other.x, &other.y, &other.second)
+    }
 }
 
 /// h_i, slopes, the tridiagonal rows (sub, diag, sup, rhs) and Thomas'
@@ -142,10 +149,11 @@ impl CubicSpline {
         Ok(self)
     }
 
-    /// The interval index used for x (end pieces extended outside).
-    fn piece(&self, x: f64) -> usize {
+    /// The interval index used for x (end pieces extended outside), from the
+    /// number of nodes at or below x.
+    fn piece_of(&self, nodes_at_or_below: usize) -> usize {
         let m = self.x.len();
-        match self.x.partition_point(|&t| t <= x) {
+        match nodes_at_or_below {
             0 => 0,
             k if k >= m => m - 2,
             k => k - 1,
@@ -154,7 +162,30 @@ impl CubicSpline {
 
     /// s(x).
     pub fn evaluate(&self, x: f64) -> f64 {
-        let i = self.piece(x);
+        let i = self.piece_of(self.x.partition_point(|&t| t <= x));
+        self.evaluate_piece(i, x)
+    }
+
+    /// s(x) for a run of queries in increasing (or slowly varying) order:
+    /// `cursor` carries the number of nodes at or below the previous query
+    /// and is walked to x, O(1) per query when the queries advance by about
+    /// one node, as the Gauss points of spline-based MPM do. The same piece,
+    /// hence the same number, as [`CubicSpline::evaluate`]. Start with 0.
+    pub fn evaluate_from(&self, x: f64, cursor: &mut usize) -> f64 {
+        let t = &self.x;
+        let mut k = (*cursor).min(t.len());
+        while k < t.len() && t[k] <= x {
+            k += 1;
+        }
+        while k > 0 && t[k - 1] > x {
+            k -= 1;
+        }
+        *cursor = k;
+        self.evaluate_piece(self.piece_of(k), x)
+    }
+
+    /// The cubic of piece i at x, in the form of the second derivatives M_i.
+    fn evaluate_piece(&self, i: usize, x: f64) -> f64 {
         let h = self.x[i + 1] - self.x[i];
         let (a, b) = (self.x[i + 1] - x, x - self.x[i]);
         let (mi, mj) = (self.second[i], self.second[i + 1]);

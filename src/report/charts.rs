@@ -71,6 +71,11 @@ pub struct Chart {
     pub footnotes: Vec<String>,
     /// If non-empty, x = 1, 2, … are categories with these names.
     pub x_categories: Vec<String>,
+    /// Fixed axis ranges (for example to leave room for the legend);
+    /// `None` fits the data.
+    pub x_range: Option<(f64, f64)>,
+    /// See `x_range`.
+    pub y_range: Option<(f64, f64)>,
 }
 
 fn label(v: f64, log: bool) -> String {
@@ -143,7 +148,7 @@ where
         .iter()
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .chain(chart.hlines.iter().map(|h| h.0));
-    let (mut x0, mut x1) = range(xs, chart.log_x);
+    let (mut x0, mut x1) = chart.x_range.unwrap_or_else(|| range(xs, chart.log_x));
     if !chart.x_categories.is_empty() {
         x0 = 0.5;
         x1 = chart.x_categories.len() as f64 + 0.5;
@@ -162,7 +167,7 @@ where
         }
     };
     let fy = move |v: &f64| label(*v, ly);
-    let (y0, y1) = range(ys, chart.log_y);
+    let (y0, y1) = chart.y_range.unwrap_or_else(|| range(ys, chart.log_y));
     macro_rules! body {
         ($ctx:expr) => {{
             let mut ctx = $ctx;

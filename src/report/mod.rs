@@ -325,6 +325,8 @@ pub fn convergence_charts(
             hlines: vec![],
             footnotes: vec!["Δt = 1e-7 s, 19 steps; reconstructions with consistent mass; slopes are least-squares fits over the four resolutions.".into()],
             x_categories: vec![],
+            x_range: None,
+            y_range: None,
         })?;
     }
     let json: Vec<_> = data
@@ -372,10 +374,68 @@ pub fn work_precision_chart(
         series,
         hlines: vec![],
         x_categories: vec![],
+        x_range: None,
+        y_range: None,
         footnotes: vec![format!("One point per resolution ({} knot spans / elements); lower and further left is better.", res.iter().map(|r| r.to_string()).collect::<Vec<_>>().join(", "))],
     })?;
     studies.insert(
         "work_precision".into(),
+        serde_json::to_value(&points).unwrap_or_default(),
+    );
+    Ok(())
+}
+
+/// The speed chart: ns per particle-step against the number of particles,
+/// one line per method (log-log); flat lines mean O(particles) steps.
+pub fn speed_chart(
+    dir: &Path,
+    quick: bool,
+    studies: &mut BTreeMap<String, serde_json::Value>,
+) -> Result<()> {
+    let cells: &[usize] = if quick {
+        &[64, 1024]
+    } else {
+        &[64, 256, 1024, 4096, 16384]
+    };
+    let points = crate::studies::speed(cells, if quick { 1 } else { 3 })?;
+    let mut labels: Vec<&str> = Vec::new();
+    for p in &points {
+        if !labels.contains(&p.label) {
+            labels.push(p.label);
+        }
+    }
+    let series = labels
+        .iter()
+        .enumerate()
+        .map(|(k, l)| Series {
+            label: l.to_string(),
+            points: points
+                .iter()
+                .filter(|p| p.label == *l)
+                .map(|p| (p.particles as f64, p.ns_per_particle_step))
+                .collect(),
+            style: Style::Line,
+            color: k,
+        })
+        .collect();
+    charts::write(dir, "speed", &Chart {
+        title: "Cost of one MUSL step: vibrating bar (thesis Table 4.1), 8 PPC, one thread".into(),
+        x_label: "particles".into(),
+        y_label: "wall time per particle-step [ns]".into(),
+        log_x: true,
+        log_y: true,
+        series,
+        hlines: vec![],
+        x_categories: vec![],
+        // Room on the right for the legend.
+        x_range: Some((1e2, 1e7)),
+        y_range: Some((1e1, 1e3)),
+        footnotes: vec![
+            "Best of repeated runs of about 65 536 particle-steps each; release build. A flat line is a step that costs O(particles).".into(),
+        ],
+    })?;
+    studies.insert(
+        "speed".into(),
         serde_json::to_value(&points).unwrap_or_default(),
     );
     Ok(())
@@ -440,6 +500,8 @@ pub fn solver_charts(
                 hlines: vec![],
                 footnotes: vec!["Lines: computed by hompm; crosses: published in the book.".into()],
                 x_categories: vec![],
+                x_range: None,
+                y_range: None,
             },
         )?;
     }
@@ -492,6 +554,8 @@ pub fn solver_charts(
         series,
         hlines: vec![],
         x_categories: vec![],
+        x_range: None,
+        y_range: None,
         footnotes: vec!["Lines: CG from zero to 1e-8; crosses: p-multigrid (book setting, including its set-up). Cholesky times are in report.json.".into()],
     })?;
     studies.insert(
@@ -532,6 +596,8 @@ pub fn stability_chart(
         ],
         hlines: vec![(1.0, "CFL estimate C = 1 (thesis Eq. 3.5)".into())],
         x_categories: names,
+        x_range: None,
+        y_range: None,
         footnotes: vec![
             "Failure cases (tests/stability.rs): grid crossing — MPM column with 80 DOFs: 112 crossings, 39x error (thesis §5.1.3);".into(),
             "negative masses — MPM-P2 with 1 PPC: negative lumped mass in every step, 60x error (thesis §5.2);".into(),
@@ -581,7 +647,7 @@ pub fn build(
         if options.quick { ", quick mode: reduced sizes" } else { "" }
     );
     if options.only.is_empty() {
-        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n");
+        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n");
     }
     for r in &report.tables {
         md.push_str(&table_markdown(r, chart_of(&r.id)));
