@@ -85,6 +85,12 @@ pub(crate) use with_width;
 /// Σ_k w_k s_j(x_k) into out[first_k + j], point by point (the loop of
 /// [`Stencils::scatter_values`] and [`Stencils::scatter_gradients`]);
 /// `W` is the width, or 0 for `width`.
+///
+/// While consecutive points share a stencil (the particles of one cell), the
+/// W sums are held in registers and stored when the stencil moves: every
+/// entry of `out` still receives the same additions in the same order, so
+/// the result is bit for bit that of adding into memory point by point, but
+/// no addition waits for the previous one's store.
 fn scatter<const W: usize>(
     first: &[usize],
     slots: &[f64],
@@ -92,13 +98,35 @@ fn scatter<const W: usize>(
     weight: impl Fn(usize) -> f64,
     out: &mut [f64],
 ) {
-    let w = if W == 0 { width } else { W };
+    if W == 0 {
+        for (k, &f) in first.iter().enumerate() {
+            let wk = weight(k);
+            for (o, &s) in out[f..f + width]
+                .iter_mut()
+                .zip(&slots[k * width..(k + 1) * width])
+            {
+                *o += wk * s;
+            }
+        }
+        return;
+    }
+    let Some(&start) = first.first() else {
+        return;
+    };
+    let mut current = start;
+    let mut sums: [f64; W] = out[current..current + W].try_into().expect("W entries");
     for (k, &f) in first.iter().enumerate() {
+        if f != current {
+            out[current..current + W].copy_from_slice(&sums);
+            current = f;
+            sums = out[current..current + W].try_into().expect("W entries");
+        }
         let wk = weight(k);
-        for (o, &s) in out[f..f + w].iter_mut().zip(&slots[k * w..k * w + w]) {
+        for (o, &s) in sums.iter_mut().zip(&slots[k * W..(k + 1) * W]) {
             *o += wk * s;
         }
     }
+    out[current..current + W].copy_from_slice(&sums);
 }
 
 /// The non-zero basis values and gradients at many points, stored flat.

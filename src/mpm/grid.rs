@@ -295,6 +295,13 @@ impl Grid {
         k
     }
 
+    /// Whether exactly `n` gradient breaks lie at or below x: the check that
+    /// a particle is still between the same two breaks, two comparisons.
+    pub fn breaks_at_or_below_is(&self, n: usize, x: f64) -> bool {
+        let br = &self.breaks;
+        n <= br.len() && (n == 0 || br[n - 1] <= x) && (n == br.len() || br[n] > x)
+    }
+
     /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3),
     /// written into `values` and `gradients` (each [`Grid::stencil_width`]
     /// long) without allocating. Returns the global index of the first

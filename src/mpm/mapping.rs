@@ -487,11 +487,47 @@ fn accumulate<const W: usize>(
 
 /// The direct mapping of book Eq. (4.10): every particle is a quadrature
 /// point with mass m_p and momentum m_p v_p.
+///
+/// With a lumped mass and a known width, the sums of the current stencil are
+/// held in registers while consecutive particles share it (as in
+/// `basis::Stencils::scatter_values`): the same additions in the same order,
+/// without a store between them.
 fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: &Particles) {
-    for k in 0..p.len() {
-        let m = p.mass[k];
-        accumulate::<W>(acc, s, k, m, m * p.v[k]);
+    if W == 0 || acc.consistent || p.is_empty() {
+        for k in 0..p.len() {
+            let m = p.mass[k];
+            accumulate::<W>(acc, s, k, m, m * p.v[k]);
+        }
+        return;
     }
+    let load = |v: &[f64], f: usize| -> [f64; W] { v[f..f + W].try_into().expect("W entries") };
+    let mut current = s.first[0];
+    let mut momentum = load(acc.momentum, current);
+    let mut lumped = load(acc.lumped, current);
+    let mut diagonal = load(acc.diagonal, current);
+    for k in 0..p.len() {
+        let f = s.first[k];
+        if f != current {
+            acc.momentum[current..current + W].copy_from_slice(&momentum);
+            acc.lumped[current..current + W].copy_from_slice(&lumped);
+            acc.diagonal[current..current + W].copy_from_slice(&diagonal);
+            current = f;
+            momentum = load(acc.momentum, current);
+            lumped = load(acc.lumped, current);
+            diagonal = load(acc.diagonal, current);
+        }
+        let (rho_w, mom_w) = (p.mass[k], p.mass[k] * p.v[k]);
+        let values = &s.values[k * W..(k + 1) * W];
+        let sum: f64 = values.iter().sum();
+        for (a, &fa) in values.iter().enumerate() {
+            momentum[a] += mom_w * fa;
+            lumped[a] += rho_w * fa * sum;
+            diagonal[a] += rho_w * fa * fa;
+        }
+    }
+    acc.momentum[current..current + W].copy_from_slice(&momentum);
+    acc.lumped[current..current + W].copy_from_slice(&lumped);
+    acc.diagonal[current..current + W].copy_from_slice(&diagonal);
 }
 
 /// Assembles the momentum p_i = ∫ ρv φ_i and the mass matrix

@@ -423,9 +423,12 @@ impl Simulation {
         let (p, ws, d) = (&self.particles, &mut self.workspace, &mut self.diagnostics);
         for k in 0..p.len() {
             d.max_abs_strain = d.max_abs_strain.max(p.strain[k].abs());
-            let after = self.grid.breaks_at_or_below(p.x[k]);
-            d.grid_crossings += after.abs_diff(ws.breaks_before[k]);
-            ws.breaks_before[k] = after;
+            let before = ws.breaks_before[k];
+            if !self.grid.breaks_at_or_below_is(before, p.x[k]) {
+                let after = self.grid.breaks_at_or_below(p.x[k]);
+                d.grid_crossings += after.abs_diff(before);
+                ws.breaks_before[k] = after;
+            }
             ws.counted_at[k] = p.x[k];
         }
     }
@@ -434,24 +437,27 @@ impl Simulation {
     /// volume non-positive, or it left the grid.
     fn check_particles_are_physical(&self) -> Result<()> {
         let p = &self.particles;
-        let bad = (0..p.len()).find(|&k| {
-            !(p.x[k].is_finite() && p.v[k].is_finite() && p.stress[k].is_finite())
-                || p.volume[k] <= 0.0
-        });
-        if let Some(k) = bad {
-            return Err(Error::BlowUp(format!(
-                "particle {k} became non-physical at step {} (t = {:e}): x = {}, v = {}, σ = {}, V = {}{}",
-                self.diagnostics.steps,
-                self.time,
-                p.x[k],
-                p.v[k],
-                p.stress[k],
-                p.volume[k],
-                if self.diagnostics.negative_mass_steps > 0 { "; negative lumped masses were seen" } else { "" }
-            )));
-        }
         let (lo, hi) = self.grid.domain();
-        if let Some(k) = (0..p.len()).find(|&k| p.x[k] < lo || p.x[k] > hi) {
+        let mut outside = None;
+        for k in 0..p.len() {
+            let finite = p.x[k].is_finite() && p.v[k].is_finite() && p.stress[k].is_finite();
+            if !finite || p.volume[k] <= 0.0 {
+                return Err(Error::BlowUp(format!(
+                    "particle {k} became non-physical at step {} (t = {:e}): x = {}, v = {}, σ = {}, V = {}{}",
+                    self.diagnostics.steps,
+                    self.time,
+                    p.x[k],
+                    p.v[k],
+                    p.stress[k],
+                    p.volume[k],
+                    if self.diagnostics.negative_mass_steps > 0 { "; negative lumped masses were seen" } else { "" }
+                )));
+            }
+            if outside.is_none() && (p.x[k] < lo || p.x[k] > hi) {
+                outside = Some(k);
+            }
+        }
+        if let Some(k) = outside {
             return Err(Error::BlowUp(format!(
                 "particle {k} left the grid [{lo}, {hi}] at step {}: x = {}",
                 self.diagnostics.steps, p.x[k]
