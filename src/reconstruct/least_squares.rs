@@ -137,7 +137,7 @@ impl<R: Fn(usize, &mut [f64]), V: Fn(usize) -> f64> RowProblem<R, V> {
                 self.count
             )));
         }
-        let d = self.normal_matrix(dim);
+        let (d, bf) = self.normal_equations(dim);
         let kappa = condition_number_of(d.clone());
         if let Some(limit) = self.max_condition {
             if kappa.is_nan() || kappa > limit {
@@ -167,15 +167,6 @@ impl<R: Fn(usize, &mut [f64]), V: Fn(usize) -> f64> RowProblem<R, V> {
                 self.count
             )));
         }
-        let mut psi = OVector::<f64, D>::zeros_generic(dim, U1);
-        let mut bf = OVector::<f64, D>::zeros_generic(dim, U1);
-        for p in 0..self.count {
-            (self.row)(p, psi.as_mut_slice());
-            let v = (self.value)(p);
-            for i in 0..nb {
-                bf[i] += psi[i] * v;
-            }
-        }
         let chol = d.cholesky().ok_or_else(|| {
             Error::Singular("least-squares matrix D is not positive definite".into())
         })?;
@@ -186,23 +177,27 @@ impl<R: Fn(usize, &mut [f64]), V: Fn(usize) -> f64> RowProblem<R, V> {
         })
     }
 
-    /// D = Σ_p ψ(x_p) ψ(x_p)ᵀ (book Eq. 4.27), point by point.
-    fn normal_matrix<D>(&self, dim: D) -> OMatrix<f64, D, D>
+    /// D = Σ_p ψ(x_p) ψ(x_p)ᵀ and BF = Σ_p ψ(x_p) f_p (book Eq. 4.27), in
+    /// one pass over the points (each row ψ(x_p) is evaluated once).
+    fn normal_equations<D>(&self, dim: D) -> (OMatrix<f64, D, D>, OVector<f64, D>)
     where
         D: Dim,
         DefaultAllocator: Allocator<D, D> + Allocator<D>,
     {
         let nb = dim.value();
         let mut d = OMatrix::<f64, D, D>::zeros_generic(dim, dim);
+        let mut bf = OVector::<f64, D>::zeros_generic(dim, U1);
         let mut psi = OVector::<f64, D>::zeros_generic(dim, U1);
         for p in 0..self.count {
             (self.row)(p, psi.as_mut_slice());
+            let v = (self.value)(p);
             for i in 0..nb {
                 for j in 0..nb {
                     d[(i, j)] += psi[i] * psi[j];
                 }
+                bf[i] += psi[i] * v;
             }
         }
-        d
+        (d, bf)
     }
 }

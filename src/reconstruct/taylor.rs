@@ -102,6 +102,44 @@ impl TaylorBasis {
     }
 }
 
+/// The Taylor functions of one cell with their constants computed once:
+/// ψ_{k+1}(x) = ((x − x_c)^k − avg_k)/(k! Δx^k), where avg_k and k! Δx^k are
+/// evaluated by the same expressions as [`TaylorBasis::function`], so the
+/// values are the same to the bit. Used for the rows of a cell's
+/// least-squares fit, where every data point needs every function.
+struct TaylorRows {
+    basis: TaylorBasis,
+    /// (avg_k, k! Δx^k) for k = 1 … min(n_b, 8) − 1.
+    constants: [(f64, f64); 8],
+}
+
+impl TaylorRows {
+    fn new(basis: &TaylorBasis) -> Self {
+        let mut constants = [(0.0, 1.0); 8];
+        let dx = basis.half_width();
+        for (k, c) in constants.iter_mut().enumerate().take(basis.order()).skip(1) {
+            *c = (basis.average_of_power(k), factorial(k) * dx.powi(k as i32));
+        }
+        Self {
+            basis: *basis,
+            constants,
+        }
+    }
+
+    /// ψ_{skip+1}(x) … ψ_{n_b}(x) into `out`.
+    fn fill(&self, x: f64, skip: usize, out: &mut [f64]) {
+        let s = x - self.basis.centroid();
+        for (i, v) in out.iter_mut().enumerate() {
+            let k = i + skip;
+            *v = match self.constants.get(k) {
+                Some(_) if k == 0 => 1.0,
+                Some(&(avg, denominator)) => (s.powi(k as i32) - avg) / denominator,
+                None => self.basis.function(k, x),
+            };
+        }
+    }
+}
+
 /// The TLS fit on one cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CellFit {
@@ -166,14 +204,11 @@ pub fn fit_cell(
         });
     }
     let shift = a1.unwrap_or(0.0);
+    let rows = TaylorRows::new(&basis);
     let f = fit_rows(
         points.len(),
         basis.order() - skip,
-        |p, psi| {
-            for (i, v) in psi.iter_mut().enumerate() {
-                *v = basis.function(i + skip, points[p]);
-            }
-        },
+        |p, psi| rows.fill(points[p], skip, psi),
         |p| match a1 {
             Some(_) => values[p] - shift,
             None => values[p],
