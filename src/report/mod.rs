@@ -337,6 +337,31 @@ pub fn convergence_charts(
     Ok(())
 }
 
+/// One line per label, in the order the labels first appear, each with its
+/// points in study order.
+fn lines_by_label<T>(
+    points: &[T],
+    label: impl Fn(&T) -> &'static str,
+    xy: impl Fn(&T) -> (f64, f64),
+) -> Vec<Series> {
+    let mut labels: Vec<&str> = Vec::new();
+    for p in points {
+        if !labels.contains(&label(p)) {
+            labels.push(label(p));
+        }
+    }
+    labels
+        .iter()
+        .enumerate()
+        .map(|(k, l)| Series {
+            label: l.to_string(),
+            points: points.iter().filter(|p| label(p) == *l).map(&xy).collect(),
+            style: Style::Line,
+            color: k,
+        })
+        .collect()
+}
+
 /// The work-precision chart: RMS displacement error against wall time.
 pub fn work_precision_chart(
     dir: &Path,
@@ -345,26 +370,7 @@ pub fn work_precision_chart(
 ) -> Result<()> {
     let res: &[usize] = if quick { &[4, 8] } else { &[4, 8, 16, 32, 64] };
     let points = crate::studies::work_precision(res)?;
-    let mut labels: Vec<&str> = Vec::new();
-    for p in &points {
-        if !labels.contains(&p.label) {
-            labels.push(p.label);
-        }
-    }
-    let series = labels
-        .iter()
-        .enumerate()
-        .map(|(k, l)| Series {
-            label: l.to_string(),
-            points: points
-                .iter()
-                .filter(|p| p.label == *l)
-                .map(|p| (p.seconds.max(1e-6), p.error))
-                .collect(),
-            style: Style::Line,
-            color: k,
-        })
-        .collect();
+    let series = lines_by_label(&points, |p| p.label, |p| (p.seconds.max(1e-6), p.error));
     charts::write(dir, "work_precision", &Chart {
         title: "Accuracy against cost: vibrating bar (thesis Table 4.1), 4 PPC, 1999 steps".into(),
         x_label: "wall time of the run [s] (one core)".into(),
@@ -398,26 +404,11 @@ pub fn speed_chart(
         &[64, 256, 1024, 4096, 16384]
     };
     let points = crate::studies::speed(cells, if quick { 1 } else { 3 })?;
-    let mut labels: Vec<&str> = Vec::new();
-    for p in &points {
-        if !labels.contains(&p.label) {
-            labels.push(p.label);
-        }
-    }
-    let series = labels
-        .iter()
-        .enumerate()
-        .map(|(k, l)| Series {
-            label: l.to_string(),
-            points: points
-                .iter()
-                .filter(|p| p.label == *l)
-                .map(|p| (p.particles as f64, p.ns_per_particle_step))
-                .collect(),
-            style: Style::Line,
-            color: k,
-        })
-        .collect();
+    let series = lines_by_label(
+        &points,
+        |p| p.label,
+        |p| (p.particles as f64, p.ns_per_particle_step),
+    );
     charts::write(dir, "speed", &Chart {
         title: "Cost of one MUSL step: vibrating bar (thesis Table 4.1), 8 PPC, one thread".into(),
         x_label: "particles".into(),

@@ -98,6 +98,36 @@ pub fn cox_de_boor_derivative(knots: &KnotVector, i: usize, p: usize, x: f64) ->
     )
 }
 
+/// Book Eqs. (4.19)–(4.20) for all p+1 functions of span `span` at once, by
+/// the triangle of NURBS Book A2.2: afterwards ndu[r][j] (r ≤ j, row-major
+/// with width p+1) holds φ_{span−j+r, j}(x), the functions of degree j, and
+/// ndu[j][r] (r < j) the knot differences that divide them. Every entry is
+/// written before it is read.
+fn cox_de_boor_triangle(
+    t: &[f64],
+    span: usize,
+    x: f64,
+    p: usize,
+    ndu: &mut [f64],
+    left: &mut [f64],
+    right: &mut [f64],
+) {
+    let w = p + 1;
+    ndu[0] = 1.0;
+    for j in 1..=p {
+        left[j] = x - t[span + 1 - j];
+        right[j] = t[span + j] - x;
+        let mut saved = 0.0;
+        for r in 0..j {
+            ndu[j * w + r] = right[r + 1] + left[j - r];
+            let temp = ndu[r * w + j - 1] / ndu[j * w + r];
+            ndu[r * w + j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j * w + j] = saved;
+    }
+}
+
 impl KnotVector {
     /// The p+1 functions that may be non-zero at `x`, with derivatives up to
     /// `order` (orders above p are zero). Same functions as [`cox_de_boor`];
@@ -164,19 +194,7 @@ impl KnotVector {
             ders,
             ..
         } = scratch;
-        ndu[0] = 1.0;
-        for j in 1..=p {
-            left[j] = x - t[span + 1 - j];
-            right[j] = t[span + j] - x;
-            let mut saved = 0.0;
-            for r in 0..j {
-                ndu[j * w + r] = right[r + 1] + left[j - r];
-                let temp = ndu[r * w + j - 1] / ndu[j * w + r];
-                ndu[r * w + j] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            ndu[j * w + j] = saved;
-        }
+        cox_de_boor_triangle(t, span, x, p, ndu, left, right);
         for j in 0..w {
             ders[j] = ndu[j * w + p];
         }
@@ -245,21 +263,7 @@ impl KnotVector {
         let SpanScratch {
             ndu, left, right, ..
         } = scratch;
-        // NURBS Book A2.2: ndu[j][r] (r < j) holds the knot differences,
-        // ndu[r][j] (r ≤ j) the functions of degree j.
-        ndu[0] = 1.0;
-        for j in 1..=p {
-            left[j] = x - t[span + 1 - j];
-            right[j] = t[span + j] - x;
-            let mut saved = 0.0;
-            for r in 0..j {
-                ndu[j * w + r] = right[r + 1] + left[j - r];
-                let temp = ndu[r * w + j - 1] / ndu[j * w + r];
-                ndu[r * w + j] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            ndu[j * w + j] = saved;
-        }
+        cox_de_boor_triangle(t, span, x, p, ndu, left, right);
         for r in 0..w {
             values[r] = ndu[r * w + p];
         }
