@@ -10,6 +10,7 @@
 //!   (thesis §3.3, §6.2);
 //! - maximal strain, lumped-mass sign, and energy.
 
+use super::mapping::Projection;
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -83,4 +84,60 @@ pub struct RunDiagnostics {
     pub initial_energy: f64,
     /// Kinetic plus strain energy at the end.
     pub final_energy: f64,
+}
+
+/// The recorder: every monitor of a run is updated here, by the step
+/// functions of `mpm::musl`, after the physics of the step is done.
+impl RunDiagnostics {
+    /// Step 2's lumped masses m_i: the smallest non-zero one, and one more
+    /// step with a negative mass if any is (P2, thesis §5.2).
+    pub fn record_lumped_masses(&mut self, masses: &[f64]) {
+        let mut negative = false;
+        for &m in masses.iter().filter(|&&m| m != 0.0) {
+            negative |= m < 0.0;
+            self.min_lumped_mass = self.min_lumped_mass.min(m);
+        }
+        if negative {
+            self.negative_mass_steps += 1;
+        }
+    }
+
+    /// Step 4's projection: solver iterations, the smallest diagonal ratio,
+    /// the largest nodal (before boundary conditions) and particle speeds,
+    /// and the relative mass and momentum errors of the grid against the
+    /// particles (TLS paper Tables 3, 5, 7).
+    pub fn record_projection(
+        &mut self,
+        projection: &Projection,
+        nodal_velocity: &[f64],
+        particle_velocity: &[f64],
+        total_mass: f64,
+        total_momentum: f64,
+    ) {
+        self.solver_iterations += projection.solver_iterations;
+        self.min_mass_diagonal_ratio = self.min_mass_diagonal_ratio.min(projection.diagonal_ratio);
+        let vmax = nodal_velocity.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        self.max_nodal_velocity = self.max_nodal_velocity.max(vmax);
+        let pmax = particle_velocity
+            .iter()
+            .map(|v| v.abs())
+            .fold(0.0, f64::max);
+        self.max_particle_velocity = self.max_particle_velocity.max(pmax);
+        self.max_mass_error = self
+            .max_mass_error
+            .max((projection.grid_mass - total_mass).abs() / total_mass);
+        if total_momentum != 0.0 {
+            let e = (projection.grid_momentum - total_momentum).abs() / total_momentum.abs();
+            self.max_momentum_error = self.max_momentum_error.max(e);
+        }
+    }
+
+    /// Steps 5–8's particles: the largest accumulated |ε_p| and this step's
+    /// grid crossings.
+    pub fn record_particles(&mut self, strain: &[f64], crossings: usize) {
+        for e in strain {
+            self.max_abs_strain = self.max_abs_strain.max(e.abs());
+        }
+        self.grid_crossings += crossings;
+    }
 }

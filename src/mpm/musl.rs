@@ -285,22 +285,15 @@ impl Simulation {
     /// recorded.
     fn nodal_acceleration(&mut self) -> Result<()> {
         let ws = &mut self.workspace;
-        let d = &mut self.diagnostics;
-        let mut negative = false;
         for i in 0..ws.mass.len() {
             let m = ws.mass[i];
             ws.acceleration[i] = 0.0;
-            if m == 0.0 {
-                continue;
+            if m != 0.0 {
+                ws.acceleration[i] =
+                    (ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i]) / m;
             }
-            negative |= m < 0.0;
-            d.min_lumped_mass = d.min_lumped_mass.min(m);
-            ws.acceleration[i] =
-                (ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i]) / m;
         }
-        if negative {
-            d.negative_mass_steps += 1;
-        }
+        self.diagnostics.record_lumped_masses(&ws.mass);
         if self.settings.consistent_acceleration {
             self.consistent_nodal_acceleration()?;
         }
@@ -356,20 +349,8 @@ impl Simulation {
             &mut ws.mapping,
         )?;
         let v = &mut ws.mapping.velocity;
-        let d = &mut self.diagnostics;
-        d.solver_iterations += proj.solver_iterations;
-        d.min_mass_diagonal_ratio = d.min_mass_diagonal_ratio.min(proj.diagonal_ratio);
-        let vmax = v.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        d.max_nodal_velocity = d.max_nodal_velocity.max(vmax);
-        let pmax = p.v.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        d.max_particle_velocity = d.max_particle_velocity.max(pmax);
-        d.max_mass_error = d
-            .max_mass_error
-            .max((proj.grid_mass - total_mass).abs() / total_mass);
-        if total_momentum != 0.0 {
-            let e = (proj.grid_momentum - total_momentum).abs() / total_momentum.abs();
-            d.max_momentum_error = d.max_momentum_error.max(e);
-        }
+        self.diagnostics
+            .record_projection(&proj, v, &p.v, total_mass, total_momentum);
         for &i in &self.settings.dirichlet {
             v[i] = 0.0;
         }
@@ -416,21 +397,23 @@ impl Simulation {
         }
     }
 
-    /// The per-particle monitors: the largest |ε_p| and the grid crossings
+    /// The per-particle monitors, recorded in [`RunDiagnostics`]: the largest
+    /// |ε_p| and the grid crossings
     /// of this step, |N(x_p^{t+Δt}) − N(x_p^t)| with N(x) the number of
     /// gradient breaks at or below x (thesis §3.3).
     fn record_particle_monitors(&mut self) {
-        let (p, ws, d) = (&self.particles, &mut self.workspace, &mut self.diagnostics);
+        let (p, ws) = (&self.particles, &mut self.workspace);
+        let mut crossings = 0;
         for k in 0..p.len() {
-            d.max_abs_strain = d.max_abs_strain.max(p.strain[k].abs());
             let before = ws.breaks_before[k];
             if !self.grid.breaks_at_or_below_is(before, p.x[k]) {
                 let after = self.grid.breaks_at_or_below(p.x[k]);
-                d.grid_crossings += after.abs_diff(before);
+                crossings += after.abs_diff(before);
                 ws.breaks_before[k] = after;
             }
             ws.counted_at[k] = p.x[k];
         }
+        self.diagnostics.record_particles(&p.strain, crossings);
     }
 
     /// A typed [`Error::BlowUp`] if a particle's state became non-finite, its
