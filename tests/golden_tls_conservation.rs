@@ -1,6 +1,8 @@
 //! TLS paper Table 3 (and book §4.5): conservation of total mass and momentum
 //! by the TLS and cubic-spline mappings, vibrating bar, 40 elements, 12 PPC.
 
+mod common;
+
 use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::Mapping;
 use hompm::tables::tls::conservation_errors;
@@ -19,12 +21,27 @@ fn tls_mapping_conserves_to_machine_precision() {
     }
 }
 
-/// The registered table: 8 of 12 reproduce; the MPM cubic-spline mass error
-/// and the BSMPM cubic-spline momentum error match the paper to < 0.3 %.
+/// The registered table (TLS paper Table 3): every TLS error at machine
+/// precision and three cubic-spline errors reproduce, each checked by name;
+/// the MPM cubic-spline mass error and the BSMPM cubic-spline momentum error
+/// match the paper to < 0.3 %. The four deviating entries are explained in
+/// docs/reproduction.md.
 #[test]
 fn tls_3_table() {
     let report = tables::run(&tables::find("tls-3").unwrap(), &RunOptions { quick: true }).unwrap();
-    assert_eq!(report.counts(), (8, 12), "{}", report.render_text());
+    common::assert_reproduced(
+        &report,
+        &[
+            ("TLS", "MPM Error_M"),
+            ("TLS", "MPM Error_P"),
+            ("TLS", "DDMPM Error_M"),
+            ("TLS", "DDMPM Error_P"),
+            ("TLS", "BSMPM Error_M"),
+            ("Cubic-spline", "MPM Error_M"),
+            ("Cubic-spline", "BSMPM Error_M"),
+            ("Cubic-spline", "BSMPM Error_P"),
+        ],
+    );
     assert!(report.deviation[0][0].unwrap().abs() < 0.003);
     assert!(report.deviation[0][5].unwrap().abs() < 0.003);
 }

@@ -119,11 +119,13 @@ proptest! {
         };
         let e0 = energy(&vec![0.0; n]);
         let mut worst: f64 = 0.0;
-        let _ = conjugate_gradient_observed(&a, b, 1e-12, 4 * n, CgVariant::Recursive, &mut |k, x| {
+        let result = conjugate_gradient_observed(&a, b, 1e-12, 4 * n, CgVariant::Recursive, &mut |k, x| {
             let bound = 2.0 * rate.powi(k as i32) * e0;
             worst = worst.max(energy(x) - bound - 1e-9 * e0);
         });
         prop_assert!(worst <= 0.0, "bound violated by {worst}");
+        let solution = result.map_err(|e| TestCaseError::fail(format!("CG did not converge: {e}")))?;
+        prop_assert!(energy(&solution.solution) <= 1e-6 * e0.max(1e-300), "CG's answer is not the solution");
     }
 }
 
@@ -146,7 +148,7 @@ fn kronecker_condition_number_is_the_product() {
     }
 }
 
-/// Exact P1 and P2-B-spline element matrices: h/6·[2 1; 1 2] for P1.
+/// The exact linear (P1) mass matrix: h/6·[2 1; 1 2] per element, times ρ.
 #[test]
 fn linear_consistent_mass_is_the_textbook_matrix() {
     let kv = KnotVector::open_uniform(0.0, 3.0, 3, 1).unwrap();
@@ -156,6 +158,31 @@ fn linear_consistent_mass_is_the_textbook_matrix() {
     assert!((m.get(1, 1) - 4.0 * h / 3.0).abs() < 1e-14);
     assert!((m.get(0, 1) - h / 3.0).abs() < 1e-14);
     assert_eq!(m.get(0, 2), 0.0);
+}
+
+/// Quadratic B-splines away from the boundary are the cardinal ones:
+/// ∫ B² = 11h/20, ∫ B(x) B(x − h) = 13h/60, ∫ B(x) B(x − 2h) = h/120
+/// (a row sums to h, the partition of unity), times ρ.
+#[test]
+fn quadratic_consistent_mass_has_the_cardinal_entries() {
+    let kv = KnotVector::open_uniform(0.0, 6.0, 6, 2).unwrap();
+    let rho = 2.0;
+    let m = consistent_mass_constant(&kv, rho).unwrap();
+    let h: f64 = 1.0;
+    for (j, expected) in [
+        (3, 11.0 / 20.0),
+        (4, 13.0 / 60.0),
+        (5, 1.0 / 120.0),
+        (6, 0.0),
+    ] {
+        assert!(
+            (m.get(3, j) - rho * h * expected).abs() < 1e-14,
+            "M(3, {j}) = {}",
+            m.get(3, j)
+        );
+    }
+    let row: f64 = (0..kv.num_basis()).map(|j| m.get(3, j)).sum();
+    assert!((row - rho * h).abs() < 1e-14);
 }
 
 /// Thesis §7.2: Richardson with the lumped matrix converges to the direct

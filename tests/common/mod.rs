@@ -1,4 +1,4 @@
-//! Shared proptest strategies.
+//! Shared proptest strategies and golden-test helpers.
 #![allow(dead_code)]
 
 use hompm::spline::KnotVector;
@@ -57,4 +57,31 @@ pub fn sample_points(kv: &KnotVector, fractions: &[f64]) -> Vec<f64> {
     pts.push(a);
     pts.push(b);
     pts
+}
+
+/// Asserts, entry by entry, that the named (row, column) entries of a table
+/// reproduce their published numbers. Rows are matched by the start of their
+/// label. A number that regresses fails here; a deviating number that gets
+/// fixed does not (no test pins a count of deviations).
+pub fn assert_reproduced(report: &hompm::tables::TableReport, entries: &[(&str, &str)]) {
+    for (row, col) in entries {
+        let i = report
+            .row_labels
+            .iter()
+            .position(|l| l.starts_with(row))
+            .unwrap_or_else(|| panic!("{}: no row '{row}'", report.id));
+        let j = report
+            .col_labels
+            .iter()
+            .position(|l| l == col)
+            .unwrap_or_else(|| panic!("{}: no column '{col}'", report.id));
+        assert_eq!(
+            report.status[i][j],
+            hompm::tables::Status::Reproduced,
+            "{} {row} / {col}: published {:?}, computed {:?}",
+            report.id,
+            report.published[i][j],
+            report.computed[i][j]
+        );
+    }
 }

@@ -1,0 +1,74 @@
+//! Thesis §7.2, Richardson's iteration with the lumped mass, on a 2×2 system
+//! small enough to follow by hand:
+//!
+//! M^C = [[2, 1], [1, 2]], M^L = row sums = [3, 3], P = [3, 0].
+//!
+//! v⁰ = P/M^L = [1, 0]; r⁰ = P − M^C v⁰ = [1, −1], ‖r⁰‖/‖P‖ = √2/3;
+//! v¹ = v⁰ + r⁰/M^L = [4/3, −1/3]; r¹ = [2/3, −2/3], ‖r¹‖/‖P‖ = 2√2/9.
+//! I − (M^L)⁻¹M^C = [[1/3, −1/3], [−1/3, 1/3]] has eigenvalues 0 and 2/3,
+//! and r⁰ lies in the eigenvector of 2/3, so every iterate shrinks the
+//! residual by exactly ρ = 2/3. The exact solution is [2, −1].
+
+use approx::assert_relative_eq;
+use hompm::solve::richardson::{richardson, richardson_contraction};
+use hompm::sparse::SparseMatrix;
+
+fn system() -> (SparseMatrix, Vec<f64>, Vec<f64>) {
+    let mc =
+        SparseMatrix::from_triplets(2, 2, &[(0, 0, 2.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 2.0)])
+            .unwrap();
+    (mc, vec![3.0, 3.0], vec![3.0, 0.0])
+}
+
+#[test]
+fn the_first_iterate_is_the_momentum_over_the_lumped_mass() {
+    // A tolerance the initial residual already meets stops at iteration 0
+    // with v⁰ = P/M^L.
+    let (mc, ml, p) = system();
+    let r = richardson(&mc, &ml, &p, 0.5, 10).unwrap();
+    assert_eq!(r.iterations, 0);
+    assert_eq!(r.solution, vec![1.0, 0.0]);
+    assert_relative_eq!(r.residuals[0], 2f64.sqrt() / 3.0, epsilon = 1e-15);
+}
+
+#[test]
+fn each_iteration_adds_the_residual_over_the_lumped_mass() {
+    // 2√2/9 ≈ 0.314 < 0.35 < √2/3 ≈ 0.471: the rule stops at the first
+    // iterate whose relative residual meets the tolerance, v¹ = [4/3, −1/3].
+    let (mc, ml, p) = system();
+    let r = richardson(&mc, &ml, &p, 0.35, 10).unwrap();
+    assert_eq!(r.iterations, 1);
+    assert_relative_eq!(r.solution[0], 4.0 / 3.0, epsilon = 1e-15);
+    assert_relative_eq!(r.solution[1], -1.0 / 3.0, epsilon = 1e-15);
+    assert_relative_eq!(r.residuals[1], 2.0 * 2f64.sqrt() / 9.0, epsilon = 1e-15);
+}
+
+#[test]
+fn the_stopping_rule_is_the_first_iterate_below_the_tolerance() {
+    // Residuals √2/3 · (2/3)^k: the first k with √2/3 · (2/3)^k ≤ 1e-9 is 50
+    // (ln(3e-9/√2)/ln(2/3) = 49.25).
+    let (mc, ml, p) = system();
+    let r = richardson(&mc, &ml, &p, 1e-9, 100).unwrap();
+    assert_eq!(r.iterations, 50);
+    assert!(r.residuals[50] <= 1e-9 && r.residuals[49] > 1e-9);
+    for (k, res) in r.residuals.iter().enumerate() {
+        let expected = 2f64.sqrt() / 3.0 * (2.0f64 / 3.0).powi(k as i32);
+        assert_relative_eq!(*res, expected, max_relative = 1e-6);
+    }
+    assert_relative_eq!(r.solution[0], 2.0, epsilon = 1e-8);
+    assert_relative_eq!(r.solution[1], -1.0, epsilon = 1e-8);
+    assert_relative_eq!(
+        richardson_contraction(&mc, &ml).unwrap(),
+        2.0 / 3.0,
+        epsilon = 1e-14
+    );
+}
+
+#[test]
+fn too_few_iterations_are_an_error_not_a_result() {
+    let (mc, ml, p) = system();
+    assert!(matches!(
+        richardson(&mc, &ml, &p, 1e-9, 49),
+        Err(hompm::Error::NotConverged(_))
+    ));
+}
