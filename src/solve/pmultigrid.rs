@@ -239,6 +239,22 @@ impl PMultigrid {
         &self.levels[self.levels.len() - 1].matrix
     }
 
+    /// Level q's mass matrix and, in 1D, its transfers to and from level
+    /// q − 1 (book Eqs. 4.61–4.62): `(M_q, Some((I_{q−1}^q, I_q^{q−1})))`.
+    /// Levels count from 0 (degree 1); level 0 and 2D levels have no 1D
+    /// transfers. For tests that state what the V-cycle applies.
+    pub fn level(
+        &self,
+        q: usize,
+    ) -> Option<(&SparseMatrix, Option<(&SparseMatrix, &SparseMatrix)>)> {
+        let lv = self.levels.get(q)?;
+        let transfers = match (&lv.prolongation, &lv.restriction) {
+            (Some(LevelMap::OneD(p)), Some(LevelMap::OneD(r))) => Some((p, r)),
+            _ => None,
+        };
+        Some((&lv.matrix, transfers))
+    }
+
     fn smooth(&self, a: &SparseMatrix, f: &[f64], x: &mut [f64], steps: usize) {
         let n = a.rows();
         let diag = a.diagonal();
