@@ -3,7 +3,7 @@
 //! A *published table* is a JSON file in `golden/published/`, transcribed from
 //! a seed with its table and page. A *registered table* pairs it with a
 //! function that computes the same grid from the documented setup, and with the
-//! tolerance of its kind (DEVELOPERS.md, "Honesty of numbers"):
+//! tolerance of its kind (docs/conventions.md, "Tolerances of the table registry"):
 //!
 //! | kind | rule |
 //! |---|---|
@@ -95,9 +95,9 @@ pub enum Tolerance {
 }
 
 impl Tolerance {
-    /// Condition numbers: 1 % (DEVELOPERS.md).
+    /// Condition numbers: 1 % (docs/conventions.md).
     pub const CONDITION_NUMBER: Tolerance = Tolerance::Relative(0.01);
-    /// RMS errors: 2 % (DEVELOPERS.md).
+    /// RMS errors: 2 % (docs/conventions.md).
     pub const RMS: Tolerance = Tolerance::Relative(0.02);
     /// Convergence orders log2(e(h)/e(h/2)): ±0.01 (docs/conventions.md).
     pub const ORDER: Tolerance = Tolerance::Absolute(0.01);

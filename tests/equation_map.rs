@@ -1,0 +1,196 @@
+//! docs/equations.md is checked, not trusted: every row of the equation map
+//! has a unique seed-prefixed id (book-4.23, tls-12, thesis-3.5, mls-14), and
+//! every row marked done names code that exists in src/ (`module::item`) and
+//! a test that exists in tests/ (`tests/file.rs::test_name`).
+
+use std::collections::HashSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+const MAP: &str = "docs/equations.md";
+const SEEDS: [&str; 4] = ["book-", "tls-", "thesis-", "mls-"];
+
+/// One row: id, what, implemented in, checked by, status.
+struct Row {
+    line: usize,
+    cells: Vec<String>,
+}
+
+/// The rows of every table in the map; `\|` inside a cell is a literal bar.
+fn rows() -> Vec<Row> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = fs::read_to_string(root.join(MAP)).expect("docs/equations.md exists");
+    let mut out = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        if !line.starts_with("| ") || line.starts_with("| id ") {
+            continue;
+        }
+        let masked = line.replace("\\|", "\u{1}");
+        let cells: Vec<String> = masked
+            .trim()
+            .trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().replace('\u{1}', "|"))
+            .collect();
+        out.push(Row { line: k + 1, cells });
+    }
+    out
+}
+
+/// The Rust sources of a module path `a::b::c`: src/a/b/c.rs, or every file
+/// of src/a/b/c/ when it is a directory module. None if it is no module.
+fn module_files(segments: &[&str]) -> Option<Vec<PathBuf>> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let dir = segments.iter().fold(src, |p, s| p.join(s));
+    let file = dir.with_extension("rs");
+    if file.is_file() {
+        return Some(vec![file]);
+    }
+    if dir.join("mod.rs").is_file() {
+        let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+            .ok()?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "rs"))
+            .collect();
+        files.sort();
+        return Some(files);
+    }
+    None
+}
+
+/// Whether `name` is declared in `text`: an item (fn, struct, enum, trait,
+/// type, const, static, mod, macro), a struct field or an enum variant.
+fn declares(text: &str, name: &str) -> bool {
+    let word = |s: &str, i: usize| {
+        s[i + name.len()..]
+            .chars()
+            .next()
+            .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+    };
+    for kw in [
+        "fn ",
+        "struct ",
+        "enum ",
+        "trait ",
+        "type ",
+        "const ",
+        "static ",
+        "mod ",
+        "macro_rules! ",
+    ] {
+        let pat = format!("{kw}{name}");
+        if text
+            .match_indices(&pat)
+            .any(|(i, _)| word(text, i + kw.len()))
+        {
+            return true;
+        }
+    }
+    // A field (`pub name:`) or an enum variant: the name at the start of a
+    // line, followed by `:`, `,`, `(`, ` {` or the end of the line.
+    text.lines().any(|l| {
+        let t = l.trim_start();
+        let t = t.strip_prefix("pub ").unwrap_or(t);
+        t.strip_prefix(name)
+            .is_some_and(|rest| rest.is_empty() || rest.starts_with([':', ',', '(', ' ', '{']))
+    })
+}
+
+/// Checks one `module::…::item::…` path: the longest prefix that is a module
+/// of the crate, then every further segment declared in its files.
+fn check_code_path(path: &str) -> Result<(), String> {
+    let segments: Vec<&str> = path.split("::").collect();
+    let (files, rest) = (1..=segments.len())
+        .rev()
+        .find_map(|k| module_files(&segments[..k]).map(|f| (f, &segments[k..])))
+        .ok_or_else(|| format!("`{path}`: no module `{}` in src/", segments[0]))?;
+    let text: String = files
+        .iter()
+        .map(|f| fs::read_to_string(f).unwrap_or_default())
+        .collect();
+    for name in rest {
+        if !declares(&text, name) {
+            return Err(format!("`{path}`: `{name}` is not declared in {files:?}"));
+        }
+    }
+    Ok(())
+}
+
+/// The crate paths named in an "implemented in" cell: words of the form
+/// `a::b…` whose first segment is a module of the crate.
+fn code_paths(cell: &str) -> Vec<String> {
+    cell.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+        .filter(|w| w.contains("::"))
+        .map(|w| w.trim_matches(':').to_string())
+        .filter(|w| module_files(&[w.split("::").next().unwrap_or("")]).is_some())
+        .collect()
+}
+
+#[test]
+fn every_row_has_a_unique_seed_prefixed_id() {
+    let mut seen = HashSet::new();
+    let rows = rows();
+    assert!(rows.len() > 150, "only {} rows parsed", rows.len());
+    for r in &rows {
+        assert_eq!(
+            r.cells.len(),
+            5,
+            "line {}: {} cells, not 5",
+            r.line,
+            r.cells.len()
+        );
+        let id = &r.cells[0];
+        assert!(
+            SEEDS.iter().any(|s| id.starts_with(s)),
+            "line {}: id `{id}` has no seed prefix",
+            r.line
+        );
+        assert!(
+            seen.insert(id.clone()),
+            "line {}: id `{id}` repeats",
+            r.line
+        );
+    }
+}
+
+#[test]
+fn every_done_row_names_code_that_exists() {
+    let mut errors = Vec::new();
+    for r in rows().iter().filter(|r| r.cells[4] == "done") {
+        let paths = code_paths(&r.cells[2]);
+        if paths.is_empty() {
+            errors.push(format!(
+                "line {}: no `module::item` in `{}`",
+                r.line, r.cells[2]
+            ));
+        }
+        for p in paths {
+            if let Err(e) = check_code_path(&p) {
+                errors.push(format!("line {}: {e}", r.line));
+            }
+        }
+    }
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+#[test]
+fn every_done_row_names_a_test_that_exists() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut errors = Vec::new();
+    for r in rows().iter().filter(|r| r.cells[4] == "done") {
+        for named in r.cells[3].split(", ") {
+            let Some((file, test)) = named.split_once("::") else {
+                errors.push(format!(
+                    "line {}: `{named}` names no test (file::test)",
+                    r.line
+                ));
+                continue;
+            };
+            let text = fs::read_to_string(root.join(file)).unwrap_or_default();
+            if !file.starts_with("tests/") || !declares(&text, test) {
+                errors.push(format!("line {}: no test `{test}` in {file}", r.line));
+            }
+        }
+    }
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
