@@ -6,6 +6,12 @@
 //! [`LocalBasis`] holds those few values and derivatives together with the
 //! index of the first one; the [`Basis1d`] trait lets the mass matrices, the
 //! reconstructions and the MPM step work with either family.
+//!
+//! [`Stencils`] holds such local values and gradients for many points at
+//! once, flat (point k owns `width` consecutive entries), so that an MPM step
+//! evaluates the basis at every particle without allocating, and scatters
+//! particle quantities to the nodes (book Eqs. 4.5–4.6) and interpolates
+//! nodal ones back (Eq. 4.9) in particle order.
 
 use crate::error::Result;
 

@@ -48,6 +48,7 @@ fn gauss_rules_are_exact_for_monomials_up_to_degree_2n_minus_1() {
 #[test]
 fn two_and_three_point_rules_match_closed_forms() {
     let g2 = GaussLegendre::new(2).unwrap();
+    assert_eq!((g2.len(), g2.is_empty()), (2, false));
     assert_relative_eq!(g2.nodes()[1], (1.0f64 / 3.0).sqrt(), epsilon = 1e-15);
     assert_relative_eq!(g2.nodes()[0], -(1.0f64 / 3.0).sqrt(), epsilon = 1e-15);
     assert_relative_eq!(g2.weights()[0], 1.0, epsilon = 1e-15);

@@ -20,10 +20,11 @@
 //! Everything a mapping needs between steps lives in a [`MappingWorkspace`]:
 //! the particles binned by cell (one counting-sort pass, so TLS costs
 //! O(particles + cells)), the quadrature points and their basis stencils,
-//! and the nodal accumulators of the projection. The direct mapping with a
-//! lumped mass allocates nothing; TLS and cubic splines allocate a bounded
-//! number of small buffers per step (their cell fits and spline
-//! coefficients), the same number every step.
+//! the previous step's cubic splines (refitted in place), and the nodal
+//! accumulators of the projection. The direct mapping with a lumped mass
+//! allocates nothing; TLS allocates its cell fits and a consistent mass its
+//! sparse matrix and factorisation, the same amount every step
+//! (tests/allocations.rs).
 
 use super::grid::Grid;
 use super::particles::Particles;
