@@ -46,6 +46,59 @@ pub enum Error {
     /// A time-stepping run whose state became non-finite or unphysical.
     #[error("the run blew up: {0}")]
     BlowUp(String),
+    /// An MPM run in which a particle's position, velocity or stress became
+    /// non-finite, or its volume non-positive (a diverged run).
+    #[error(
+        "the run blew up: particle {particle} became non-physical at step {step} (t = {time:e}): x = {x}, v = {velocity}, σ = {stress}, V = {volume}{}",
+        if *.negative_masses { "; negative lumped masses were seen" } else { "" }
+    )]
+    NonPhysicalParticle {
+        /// Index of the first such particle.
+        particle: usize,
+        /// Steps taken, including the one that failed.
+        step: usize,
+        /// Time reached.
+        time: f64,
+        /// Its position.
+        x: f64,
+        /// Its velocity.
+        velocity: f64,
+        /// Its stress.
+        stress: f64,
+        /// Its volume.
+        volume: f64,
+        /// Whether negative lumped masses were seen earlier in the run.
+        negative_masses: bool,
+    },
+    /// An MPM run in which a particle left the grid.
+    #[error(
+        "the run blew up: particle {particle} left the grid [{a}, {b}] at step {step}: x = {x}"
+    )]
+    ParticleLeftGrid {
+        /// Index of the first such particle.
+        particle: usize,
+        /// Steps taken, including the one that failed.
+        step: usize,
+        /// Its position.
+        x: f64,
+        /// Left end of the grid.
+        a: f64,
+        /// Right end of the grid.
+        b: f64,
+    },
+    /// A TLS cell whose data cannot determine its fit (TLS paper §5.3), when
+    /// degenerate cells are errors.
+    #[error("singular system: TLS on cell {cell} [{a}, {b}]: {detail}")]
+    SingularCell {
+        /// Index of the cell.
+        cell: usize,
+        /// Left end of the cell.
+        a: f64,
+        /// Right end of the cell.
+        b: f64,
+        /// Why the fit failed (too few points, or κ(D) with its value).
+        detail: String,
+    },
     /// A table id that is not registered.
     #[error("unknown table id '{0}' (see `hompm table --list`)")]
     UnknownTable(String),

@@ -42,9 +42,11 @@ pub fn is_stable(
     let steps = (TRANSITS * p.length / p.wave_speed() / dt).ceil() as usize;
     match sim.run(dt, steps) {
         Ok(()) => Ok(sim.diagnostics.final_energy <= ENERGY_BOUND * sim.diagnostics.initial_energy),
-        Err(Error::BlowUp(_)) | Err(Error::Singular(_)) | Err(Error::OutsideDomain { .. }) => {
-            Ok(false)
-        }
+        Err(Error::BlowUp(_))
+        | Err(Error::NonPhysicalParticle { .. })
+        | Err(Error::ParticleLeftGrid { .. })
+        | Err(Error::Singular(_))
+        | Err(Error::OutsideDomain { .. }) => Ok(false),
         Err(e) => Err(e),
     }
 }

@@ -208,7 +208,10 @@ fn degenerate_cell_is_detected_and_repaired_by_a_virtual_point() {
         ..TlsOptions::default()
     };
     match reconstruct(&cells, &x, &y, Some(&ints), strict) {
-        Err(Error::Singular(msg)) => assert!(msg.contains("cell 1"), "{msg}"),
+        Err(Error::SingularCell { cell, a, b, .. }) => {
+            assert_eq!(cell, 1);
+            assert_eq!((a, b), cells[1]);
+        }
         other => panic!("expected a singular cell, got {other:?}"),
     }
     let repaired = reconstruct(&cells, &x, &y, Some(&ints), TlsOptions::default()).unwrap();

@@ -145,7 +145,10 @@ fn near_zero_consistent_masses_are_diagnosed() {
         ))
         .unwrap();
     match sim.run(1e-4, 5000) {
-        Err(Error::BlowUp(msg)) => assert!(msg.contains("non-physical"), "{msg}"),
+        Err(Error::NonPhysicalParticle { step, particle, .. }) => {
+            assert!(step > 0 && step <= 5000, "step {step}");
+            assert!(particle < 256, "particle {particle}");
+        }
         other => panic!("expected a blow-up, got {other:?}"),
     }
     // The lumped projection of the thesis' own choice stays bounded.

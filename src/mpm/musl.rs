@@ -416,8 +416,9 @@ impl Simulation {
         self.diagnostics.record_particles(&p.strain, crossings);
     }
 
-    /// A typed [`Error::BlowUp`] if a particle's state became non-finite, its
-    /// volume non-positive, or it left the grid.
+    /// A typed [`Error::NonPhysicalParticle`] if a particle's state became
+    /// non-finite or its volume non-positive, [`Error::ParticleLeftGrid`] if
+    /// it left the grid.
     fn check_particles_are_physical(&self) -> Result<()> {
         let p = &self.particles;
         let (lo, hi) = self.grid.domain();
@@ -425,26 +426,29 @@ impl Simulation {
         for k in 0..p.len() {
             let finite = p.x[k].is_finite() && p.v[k].is_finite() && p.stress[k].is_finite();
             if !finite || p.volume[k] <= 0.0 {
-                return Err(Error::BlowUp(format!(
-                    "particle {k} became non-physical at step {} (t = {:e}): x = {}, v = {}, σ = {}, V = {}{}",
-                    self.diagnostics.steps,
-                    self.time,
-                    p.x[k],
-                    p.v[k],
-                    p.stress[k],
-                    p.volume[k],
-                    if self.diagnostics.negative_mass_steps > 0 { "; negative lumped masses were seen" } else { "" }
-                )));
+                return Err(Error::NonPhysicalParticle {
+                    particle: k,
+                    step: self.diagnostics.steps,
+                    time: self.time,
+                    x: p.x[k],
+                    velocity: p.v[k],
+                    stress: p.stress[k],
+                    volume: p.volume[k],
+                    negative_masses: self.diagnostics.negative_mass_steps > 0,
+                });
             }
             if outside.is_none() && (p.x[k] < lo || p.x[k] > hi) {
                 outside = Some(k);
             }
         }
         if let Some(k) = outside {
-            return Err(Error::BlowUp(format!(
-                "particle {k} left the grid [{lo}, {hi}] at step {}: x = {}",
-                self.diagnostics.steps, p.x[k]
-            )));
+            return Err(Error::ParticleLeftGrid {
+                particle: k,
+                step: self.diagnostics.steps,
+                x: p.x[k],
+                a: lo,
+                b: hi,
+            });
         }
         Ok(())
     }

@@ -229,7 +229,7 @@ pub fn fit_cell(
 /// What to do with a cell whose data cannot determine its TLS fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DegenerateCells {
-    /// Return `Error::Singular` naming the cell.
+    /// Return `Error::SingularCell` naming the cell.
     Error,
     /// Lower n_b until the fit is well conditioned.
     ReduceBasis,
@@ -499,9 +499,16 @@ pub fn reconstruct_binned(
         let (a, b) = cells[e];
         match options.degenerate {
             DegenerateCells::Error => {
-                return Err(Error::Singular(format!(
-                    "TLS on cell {e} [{a}, {b}]: {err}"
-                )));
+                let detail = match err {
+                    Error::Singular(m) => m,
+                    other => other.to_string(),
+                };
+                return Err(Error::SingularCell {
+                    cell: e,
+                    a,
+                    b,
+                    detail,
+                });
             }
             DegenerateCells::ReduceBasis | DegenerateCells::VirtualPoints => {
                 gather(e, px, pv);
