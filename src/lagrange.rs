@@ -84,6 +84,11 @@ impl LagrangeBasis {
             ));
         }
         let h = (b - a) / elements as f64;
+        if !h.is_finite() || h < f64::MIN_POSITIVE {
+            return Err(Error::InvalidArgument(format!(
+                "{elements} elements on [{a:e}, {b:e}] have size {h:e}, which double precision cannot divide by"
+            )));
+        }
         Ok(Self {
             a,
             b,

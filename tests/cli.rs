@@ -182,3 +182,19 @@ fn mass_json_has_the_documented_keys() {
     assert_ne!(code, 0);
     assert_eq!(err.trim_end().lines().count(), 1);
 }
+
+/// JSON never carries `null` for a number that cannot be written (issue #13):
+/// before the first step the minima over steps have no value and are left
+/// out; after a step they are numbers.
+#[test]
+fn run_json_has_no_null_standing_for_infinity() {
+    for steps in ["0", "3"] {
+        let (code, out, err) = hompm(&["run", "vibrating-bar", "--steps", steps, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(!out.contains("null"), "--steps {steps}: {out}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let d = &v["diagnostics"];
+        assert_eq!(d["min_lumped_mass"].is_number(), steps != "0");
+        assert_eq!(d["min_mass_diagonal_ratio"].is_number(), steps != "0");
+    }
+}

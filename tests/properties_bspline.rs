@@ -234,6 +234,26 @@ fn malformed_knot_vectors_are_rejected() {
         let r = KnotVector::new(knots.clone(), p);
         assert!(r.is_err(), "{knots:?} with p = {p} was accepted");
     }
+    // Knots that double precision cannot divide by (the reciprocal of a
+    // subnormal span overflows) or whose domain length overflows are refused
+    // rather than evaluated to inf/NaN (issue #13's reproducers); a tiny but
+    // normal span is fine.
+    for (knots, p) in [
+        (vec![0.0, 0.0, 5e-324, 5e-324], 1),
+        (vec![-1e308, -1e308, 1e308, 1e308], 1),
+        (vec![0.0, 1e308, 1.7e308, 1.7e308], 0),
+    ] {
+        assert!(
+            matches!(
+                KnotVector::new(knots.clone(), p),
+                Err(Error::InvalidKnots(_))
+            ),
+            "{knots:?} with p = {p} was accepted"
+        );
+    }
+    let tiny = KnotVector::new(vec![0.0, 0.0, 0.0, 1e-300, 1.0, 1.0, 1.0], 2).unwrap();
+    let v = tiny.dense_values(1e-301).unwrap();
+    assert!(v.iter().all(|x| x.is_finite()) && (v.iter().sum::<f64>() - 1.0).abs() < 1e-15);
     assert!(matches!(
         KnotVector::open_uniform(1.0, 1.0, 3, 2),
         Err(Error::InvalidKnots(_))

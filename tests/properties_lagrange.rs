@@ -99,6 +99,9 @@ proptest! {
 fn lagrange_rejects_bad_input() {
     assert!(LagrangeBasis::new(0.0, 0.0, 3, LagrangeOrder::Linear).is_err());
     assert!(LagrangeBasis::new(0.0, 1.0, 0, LagrangeOrder::Linear).is_err());
+    // Element sizes double precision cannot divide by, or that overflow.
+    assert!(LagrangeBasis::new(0.0, 5e-324, 1, LagrangeOrder::Linear).is_err());
+    assert!(LagrangeBasis::new(-1e308, 1e308, 4, LagrangeOrder::Linear).is_err());
     let b = LagrangeBasis::new(0.0, 1.0, 3, LagrangeOrder::Quadratic).unwrap();
     assert!(b.local(1.01, 0).is_err());
     assert!(b.local(f64::NAN, 0).is_err());

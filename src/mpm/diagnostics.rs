@@ -53,6 +53,12 @@ fn check(a: &[f64], b: &[f64]) -> Result<()> {
     Ok(())
 }
 
+/// A minimum over steps that no step has recorded yet is +∞; JSON has no
+/// number for it, so the key is left out rather than written as `null`.
+fn no_value_yet(x: &f64) -> bool {
+    x.is_infinite()
+}
+
 /// Monitors accumulated over a run.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct RunDiagnostics {
@@ -69,12 +75,16 @@ pub struct RunDiagnostics {
     pub max_abs_strain: f64,
     /// Steps in which some active lumped mass was negative (P2, thesis §5.2).
     pub negative_mass_steps: usize,
-    /// Smallest active lumped mass seen.
+    /// Smallest active lumped mass seen (+∞ before the first step; absent
+    /// from JSON until a step has recorded one).
+    #[serde(skip_serializing_if = "no_value_yet")]
     pub min_lumped_mass: f64,
     /// Total iterations of a consistent iterative solver.
     pub solver_iterations: usize,
     /// min over steps of min_i M_ii / max_i M_ii of the projection's mass
-    /// matrix over active DOFs (near-zero entries, thesis §7.2.4).
+    /// matrix over active DOFs (near-zero entries, thesis §7.2.4); +∞ before
+    /// the first step and absent from JSON until then.
+    #[serde(skip_serializing_if = "no_value_yet")]
     pub min_mass_diagonal_ratio: f64,
     /// max over steps of max_i |v_i| of the projected nodal velocities.
     pub max_nodal_velocity: f64,

@@ -33,7 +33,10 @@ impl KnotVector {
     /// Validates a general knot vector for degree `degree`.
     ///
     /// Errors: an empty or non-finite knot, decreasing knots, fewer than p+2
-    /// knots, a knot of multiplicity above p+1, a domain of zero length.
+    /// knots, a knot of multiplicity above p+1, a domain of zero length, and
+    /// knots too close (a non-zero span below `f64::MIN_POSITIVE`, whose
+    /// reciprocal overflows) or too far apart (a span or domain length that
+    /// overflows) for double precision.
     /// Book §4.3 (Ξ non-decreasing); thesis §6.1 (repeated knots).
     pub fn new(knots: Vec<f64>, degree: usize) -> Result<Self> {
         if knots.is_empty() {
@@ -75,7 +78,24 @@ impl KnotVector {
             }
             run = 1;
         }
+        for i in 1..knots.len() {
+            let d = knots[i] - knots[i - 1];
+            if !d.is_finite() || (d > 0.0 && d < f64::MIN_POSITIVE) {
+                return Err(Error::InvalidKnots(format!(
+                    "knots {} = {:e} and {i} = {:e} differ by {d:e}, which double precision cannot divide by",
+                    i - 1,
+                    knots[i - 1],
+                    knots[i]
+                )));
+            }
+        }
         let n = knots.len() - degree - 1;
+        if !(knots[n] - knots[degree]).is_finite() {
+            return Err(Error::InvalidKnots(format!(
+                "the domain [{:e}, {:e}] is longer than double precision can represent",
+                knots[degree], knots[n]
+            )));
+        }
         if knots[degree] >= knots[n] {
             return Err(Error::InvalidKnots(format!(
                 "the domain [{}, {}] has zero length",
