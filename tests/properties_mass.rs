@@ -231,3 +231,26 @@ fn solver_failures_are_errors() {
     assert!(material_point_mass(&kv, &[0.5], &[1.0, 1.0]).is_err());
     assert_eq!(kv.num_basis(), 6);
 }
+
+/// Thesis Appendix A.1: M = Σ_e T_eᵀ M_e T_e adds each element matrix into
+/// the rows and columns of its DOFs (two P1 elements sharing DOF 1), and
+/// refuses element matrices that do not match their DOF lists or DOFs
+/// outside the global matrix.
+#[test]
+fn assembly_adds_element_matrices_at_their_dofs_and_checks_its_input() {
+    use hompm::mass::assemble;
+    use nalgebra::DMatrix;
+    let me = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+    let m = assemble(&[me.clone(), me.clone()], &[vec![0, 1], vec![1, 2]], 3).unwrap();
+    let expected = [[2.0, 1.0, 0.0], [1.0, 4.0, 1.0], [0.0, 1.0, 2.0]];
+    for (i, row) in expected.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            assert_eq!(m[(i, j)], *v, "M({i}, {j})");
+        }
+    }
+    assert!(assemble(std::slice::from_ref(&me), &[vec![0, 1], vec![1, 2]], 3).is_err());
+    assert!(assemble(std::slice::from_ref(&me), &[vec![0, 1, 2]], 3).is_err());
+    assert!(assemble(&[DMatrix::zeros(2, 3)], &[vec![0, 1]], 3).is_err());
+    assert!(assemble(std::slice::from_ref(&me), &[vec![2, 3]], 3).is_err());
+    assert!(assemble(&[me], &[vec![3, 0]], 3).is_err());
+}
