@@ -235,7 +235,8 @@ fn solver_failures_are_errors() {
 /// Thesis Appendix A.1: M = Σ_e T_eᵀ M_e T_e adds each element matrix into
 /// the rows and columns of its DOFs (two P1 elements sharing DOF 1), and
 /// refuses element matrices that do not match their DOF lists or DOFs
-/// outside the global matrix.
+/// outside the global matrix. Row-sum lumping of the result (book Eq. 4.3,
+/// thesis A.2) gives [3, 6, 3].
 #[test]
 fn assembly_adds_element_matrices_at_their_dofs_and_checks_its_input() {
     use hompm::mass::assemble;
@@ -248,6 +249,7 @@ fn assembly_adds_element_matrices_at_their_dofs_and_checks_its_input() {
             assert_eq!(m[(i, j)], *v, "M({i}, {j})");
         }
     }
+    assert_eq!(hompm::mass::row_sum_lumping(&m), vec![3.0, 6.0, 3.0]);
     assert!(assemble(std::slice::from_ref(&me), &[vec![0, 1], vec![1, 2]], 3).is_err());
     assert!(assemble(std::slice::from_ref(&me), &[vec![0, 1, 2]], 3).is_err());
     assert!(assemble(&[DMatrix::zeros(2, 3)], &[vec![0, 1]], 3).is_err());
