@@ -55,6 +55,8 @@ proptest! {
         let row = lumped_by_row_sum(&mc);
         let var = lumped_variational(&kv, &rho, q).unwrap();
         let total = c0 * (b - a) + 0.5 * c1 * (b - a);
+        prop_assert_eq!(var.len(), kv.num_basis());
+        prop_assert_eq!(row.len(), kv.num_basis());
         for (r, v) in row.iter().zip(&var) {
             prop_assert!((r - v).abs() < 1e-12 * total);
         }
@@ -88,6 +90,8 @@ proptest! {
         let a = random_matrix(ma, na, &seed);
         let b = random_matrix(mb, nb, &seed[3..]);
         let k = Kronecker2d::new(a, b);
+        prop_assert_eq!((k.rows(), k.cols()), (ma * mb, na * nb));
+        prop_assert_eq!((k.assemble().rows(), k.assemble().cols()), (ma * mb, na * nb));
         let x = &v[..na * nb];
         let mut y1 = vec![0.0; ma * mb];
         let mut y2 = vec![0.0; ma * mb];
