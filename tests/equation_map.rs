@@ -194,3 +194,25 @@ fn every_done_row_names_a_test_that_exists() {
     }
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
+
+#[test]
+fn the_summary_line_counts_the_rows() {
+    let rows = rows();
+    let count = |status: &str| {
+        rows.iter()
+            .filter(|r| r.cells[4].starts_with(status))
+            .count()
+    };
+    let expected = format!(
+        "Summary: {} rows — {} done, {} pending, {} not applicable.",
+        rows.len(),
+        count("done"),
+        count("pending"),
+        count("not applicable")
+    );
+    let text = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(MAP)).unwrap();
+    assert!(
+        text.lines().any(|l| l == expected),
+        "docs/equations.md should say: {expected}"
+    );
+}
