@@ -40,6 +40,15 @@ pub enum Error {
     /// A linear system that cannot be solved (singular or not positive definite).
     #[error("singular system: {0}")]
     Singular(String),
+    /// A system whose condition number exceeds what double precision
+    /// resolves: its smallest eigenvalue is below the rounding of the largest.
+    #[error("{what} has κ ≥ {kappa_at_least:.1e}: its smallest eigenvalue is below the rounding n·ε·λ_max of the largest, so κ exceeds what double precision resolves")]
+    IllConditioned {
+        /// The system.
+        what: String,
+        /// A lower bound on κ = λ_max/λ_min.
+        kappa_at_least: f64,
+    },
     /// An iterative method that did not meet its stopping rule.
     #[error("did not converge: {0}")]
     NotConverged(String),
@@ -49,7 +58,7 @@ pub enum Error {
     /// An MPM run in which a particle's position, velocity or stress became
     /// non-finite, or its volume non-positive (a diverged run).
     #[error(
-        "the run blew up: particle {particle} became non-physical at step {step} (t = {time:e}): x = {x}, v = {velocity}, σ = {stress}, V = {volume}{}",
+        "the run blew up: particle {particle} became non-physical at step {step} (t = {time:e}): x = {x:e}, v = {velocity:e}, σ = {stress:e}, V = {volume:e}{}",
         if *.negative_masses { "; negative lumped masses were seen" } else { "" }
     )]
     NonPhysicalParticle {
@@ -72,7 +81,7 @@ pub enum Error {
     },
     /// An MPM run in which a particle left the grid.
     #[error(
-        "the run blew up: particle {particle} left the grid [{a}, {b}] at step {step}: x = {x}"
+        "the run blew up: particle {particle} left the grid [{a}, {b}] at step {step}: x = {x:e}"
     )]
     ParticleLeftGrid {
         /// Index of the first such particle.
@@ -99,6 +108,35 @@ pub enum Error {
         /// Why the fit failed (too few points, or κ(D) with its value).
         detail: String,
     },
+    /// A run that the stability monitor (`mpm::monitor`) stopped: the energy
+    /// grew beyond its bound, or a strain reached ±1.
+    #[error("the run diverged at step {step} (t = {time:e}){}: {cause}", match particle { Some(p) => format!(", particle {p}"), None => String::new() })]
+    Diverged {
+        /// Steps taken, including the one that failed.
+        step: usize,
+        /// Time reached.
+        time: f64,
+        /// The particle that shows it, where one does.
+        particle: Option<usize>,
+        /// What diverged, with the numbers.
+        cause: String,
+    },
+    /// A command whose estimated memory or run time exceeds a limit: refused
+    /// before any work is done.
+    #[error("{what} needs {needed}; the limit is {limit} ({flag})")]
+    OverLimit {
+        /// What was asked for ("--condition on 100001 DOFs").
+        what: String,
+        /// The estimate ("a dense 80 GB matrix").
+        needed: String,
+        /// The limit in force ("4 GiB").
+        limit: String,
+        /// The flag that raises it.
+        flag: &'static str,
+    },
+    /// Command-line arguments that do not parse (exit code 2).
+    #[error("{0}")]
+    Usage(String),
     /// A table id that is not registered.
     #[error("unknown table id '{0}' (see `hompm table --list`)")]
     UnknownTable(String),

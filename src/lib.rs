@@ -26,9 +26,11 @@
 //! | 0 | [`rng`] | the seeded generator behind every "random" layout |
 //! | 7 | [`tables`] | the registry of published tables and their computations |
 //! | 8 | [`report`] | report.md/json, reproduction.md, charts |
+//! | 9 | [`cli`] | the command line as a function, `cli::run(args)`; the binary prints what it returns |
 //!
 
 pub mod basis;
+pub mod cli;
 pub mod error;
 pub mod fem;
 pub mod lagrange;

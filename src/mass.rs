@@ -272,3 +272,20 @@ impl Kronecker2d {
         SparseMatrix::kron(&self.y, &self.x)
     }
 }
+
+/// The book's test problem (book §4.6–4.7, Tables 4.2–4.4; thesis §7.2):
+/// the consistent mass of ρ = 1 for open uniform B-splines of degree p on
+/// `spans` spans of [0, 1], with the first and last function removed when
+/// `dirichlet` holds (homogeneous Dirichlet conditions).
+pub fn unit_density_mass(spans: usize, degree: usize, dirichlet: bool) -> Result<SparseMatrix> {
+    let kv = crate::spline::KnotVector::open_uniform(0.0, 1.0, spans, degree)?;
+    let m = consistent_mass_constant(&kv, 1.0)?;
+    Ok(if dirichlet { with_dirichlet(&m) } else { m })
+}
+
+/// The 2D matrix of the book's tables, M_y ⊗ M_x with both factors
+/// [`unit_density_mass`] (book Eq. 4.53), in Kronecker form.
+pub fn unit_density_mass_2d(spans: usize, degree: usize, dirichlet: bool) -> Result<Kronecker2d> {
+    let m = unit_density_mass(spans, degree, dirichlet)?;
+    Ok(Kronecker2d::new(m.clone(), m))
+}

@@ -98,6 +98,21 @@ fn bad_input_is_one_line_on_stderr_and_non_zero() {
         &["basis", "--degree", "1", "--knots", "", "--at", "0.5"],
         &["table", "no-such-table"],
         &["frobnicate"],
+        &[],
+        &["basis", "--degree", "1", "--knots", "0,1\n2", "--at", "0"],
+        &["table", "no\nsuch\u{1b}[31mtable"],
+        &[
+            "run",
+            "vibrating-bar",
+            "--cells",
+            "8",
+            "--ppc",
+            "12",
+            "--steps",
+            "1",
+            "--dt",
+            "31.25",
+        ],
     ];
     for args in cases {
         let (code, out, err) = hompm(args);

@@ -230,6 +230,28 @@ fn bad_runs_are_typed_errors() {
         }
     )
     .is_err());
-    assert!(Method::parse("bsmpm", 0).is_err());
-    assert!(Mapping::parse("nope").is_err());
+}
+
+/// The CFL warning of `hompm run` (`mpm::monitor`) uses constants: they are
+/// the critical Courant numbers the study measures (16 cells, 4 PPC, lumped
+/// acceleration), rounded down to two digits.
+#[test]
+fn the_monitors_critical_courant_numbers_are_the_measured_ones() {
+    use hompm::mpm::monitor::measured_critical_courant;
+    for method in [
+        Method::Mpm,
+        Method::Ddmpm,
+        Method::MpmP2,
+        Method::Bsmpm { degree: 1 },
+        Method::Bsmpm { degree: 2 },
+        Method::Bsmpm { degree: 3 },
+    ] {
+        let measured = critical_courant(method, false, 16, 4).unwrap();
+        let constant = measured_critical_courant(method).unwrap();
+        assert!(
+            constant <= measured && measured - constant < 0.01,
+            "{method:?}: constant {constant}, measured {measured}"
+        );
+    }
+    assert_eq!(measured_critical_courant(Method::Bsmpm { degree: 4 }), None);
 }

@@ -47,20 +47,6 @@ pub enum Method {
 }
 
 impl Method {
-    /// Parses `mpm`, `mpm-p2`, `ddmpm` or `bsmpm` (with the degree).
-    pub fn parse(name: &str, degree: usize) -> Result<Self> {
-        match name {
-            "mpm" => Ok(Method::Mpm),
-            "mpm-p2" => Ok(Method::MpmP2),
-            "ddmpm" => Ok(Method::Ddmpm),
-            "bsmpm" if degree >= 1 => Ok(Method::Bsmpm { degree }),
-            "bsmpm" => Err(Error::InvalidDegree("bsmpm needs --degree ≥ 1".into())),
-            other => Err(Error::InvalidArgument(format!(
-                "method must be mpm, mpm-p2, ddmpm or bsmpm, got '{other}'"
-            ))),
-        }
-    }
-
     /// A short label for charts and tables.
     pub fn label(&self) -> String {
         match self {

@@ -53,20 +53,6 @@ pub enum Mapping {
     CubicSpline,
 }
 
-impl Mapping {
-    /// Parses `direct`, `tls` or `cubic-spline`.
-    pub fn parse(name: &str) -> Result<Self> {
-        match name {
-            "direct" => Ok(Mapping::Direct),
-            "tls" => Ok(Mapping::Tls),
-            "cubic-spline" => Ok(Mapping::CubicSpline),
-            other => Err(Error::InvalidArgument(format!(
-                "mapping must be direct, tls or cubic-spline, got '{other}'"
-            ))),
-        }
-    }
-}
-
 /// How the consistent system M^C v = p is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "kebab-case")]

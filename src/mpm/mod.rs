@@ -13,10 +13,12 @@
 //!   Richardson iteration.
 //!
 //! [`particles`] holds the material points (struct of arrays), [`musl`] the
-//! time step and [`diagnostics`] the error measures of the seeds.
+//! time step, [`diagnostics`] the error measures of the seeds and
+//! [`monitor`] the stability monitor of `hompm run`.
 
 pub mod diagnostics;
 pub mod grid;
 pub mod mapping;
+pub mod monitor;
 pub mod musl;
 pub mod particles;

@@ -187,6 +187,13 @@ impl Simulation {
         }
     }
 
+    /// Kinetic plus strain energy Σ_p ½ m_p v_p² + ½ σ_p ε_p V_p of the
+    /// particles now (the quantity `diagnostics.initial_energy` and
+    /// `final_energy` record; the stability monitor watches it every step).
+    pub fn energy(&self) -> f64 {
+        energy(&self.particles)
+    }
+
     /// The buffers of the last step: the basis at the particles, the nodal
     /// mass, forces, acceleration and projected velocity.
     pub fn workspace(&self) -> &StepWorkspace {

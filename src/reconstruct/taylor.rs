@@ -24,6 +24,11 @@
 use super::least_squares::fit_rows;
 use crate::error::{finite, finite_named, Error, Result};
 
+/// The largest n_b hompm accepts. The seeds use n_b ≤ 3 (TLS paper §5);
+/// at n_b = 20 the scaled monomials of degree 19 already put κ(D) far
+/// beyond 1/ε for clustered data, and a larger n_b would only hide that.
+pub const MAX_ORDER: usize = 20;
+
 /// The Taylor basis of order n_b on one cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TaylorBasis {
@@ -46,8 +51,15 @@ impl TaylorBasis {
                 "cell [{a}, {b}] has zero or negative length"
             )));
         }
-        if order == 0 {
-            return Err(Error::InvalidDegree("a Taylor basis needs n_b ≥ 1".into()));
+        if !(b - a).is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "cell [{a:e}, {b:e}] is longer than double precision can represent"
+            )));
+        }
+        if order == 0 || order > MAX_ORDER {
+            return Err(Error::InvalidDegree(format!(
+                "a Taylor basis needs 1 ≤ n_b ≤ {MAX_ORDER}, got {order}"
+            )));
         }
         Ok(Self { a, b, order })
     }
@@ -278,6 +290,8 @@ pub struct TlsReconstruction {
     /// The cell fits, in cell order; `None` for a cell with no data and no
     /// prescribed integral (the reconstruction is zero there).
     pub cells: Vec<Option<CellFit>>,
+    /// The union of the cells, [first a, last b].
+    pub domain: (f64, f64),
 }
 
 impl TlsReconstruction {
@@ -295,6 +309,18 @@ impl TlsReconstruction {
         }
         // Cells may be None; locate by the fitted cells only.
         0.0
+    }
+
+    /// f̃(x) as [`TlsReconstruction::evaluate`], but a point outside the
+    /// cells is [`Error::OutsideDomain`], as for every reconstruction the
+    /// CLI offers (a NaN point is [`Error::NonFinite`]).
+    pub fn value_at(&self, x: f64) -> Result<f64> {
+        finite("query point", x)?;
+        let (a, b) = self.domain;
+        if x < a || x > b {
+            return Err(Error::OutsideDomain { x, a, b });
+        }
+        Ok(self.evaluate(x))
     }
 
     /// ∫_{Ω_e} f̃ for every cell.
@@ -329,6 +355,12 @@ pub fn reconstruct(
             "{} points but {} values",
             points.len(),
             values.len()
+        )));
+    }
+    if options.order == 0 || options.order > MAX_ORDER {
+        return Err(Error::InvalidDegree(format!(
+            "TLS needs 1 ≤ n_b ≤ {MAX_ORDER}, got {}",
+            options.order
         )));
     }
     if let Some(c) = integrals {
@@ -539,5 +571,9 @@ pub fn reconstruct_binned(
             }
         }
     }
-    Ok(TlsReconstruction { cells: out })
+    let domain = match (cells.first(), cells.last()) {
+        (Some(first), Some(last)) => (first.0, last.1),
+        _ => (0.0, 0.0),
+    };
+    Ok(TlsReconstruction { cells: out, domain })
 }

@@ -8,7 +8,9 @@
 //! - [`cg`]: conjugate gradients with the stopping rule of Eq. (4.53);
 //! - [`richardson`]: the thesis' lumped-preconditioned Richardson iteration;
 //! - [`pmultigrid`]: p-multigrid V-cycles (book Eqs. 4.59–4.62);
-//! - [`direct`]: sparse Cholesky (faer), the reference.
+//! - [`direct`]: sparse Cholesky (faer), the reference;
+//! - [`gravity_rhs`]: the right-hand side of the book's test problem
+//!   (`mass::unit_density_mass_2d`).
 
 pub mod cg;
 pub mod direct;
@@ -79,10 +81,20 @@ pub(crate) fn check_rhs(n: usize, b: &[f64], tol: f64) -> Result<()> {
     for (i, v) in b.iter().enumerate() {
         crate::error::finite_named(*v, || format!("right-hand side entry {i}"))?;
     }
-    if !(tol > 0.0 && tol.is_finite()) {
+    if !(tol.is_finite() && tol >= f64::EPSILON) {
         return Err(Error::InvalidArgument(format!(
-            "the tolerance must be positive and finite, got {tol}"
+            "the relative tolerance must be finite and at least ε = {:e}, which double precision can resolve; got {tol:e}",
+            f64::EPSILON
         )));
     }
     Ok(())
+}
+
+/// The right-hand side of book Tables 4.3–4.4: f = M·(−9.81·1), so that the
+/// exact solution of M a = f is the constant −9.81.
+pub fn gravity_rhs(m: &dyn LinearOperator) -> Vec<f64> {
+    let ones = vec![-9.81; m.size()];
+    let mut f = vec![0.0; m.size()];
+    m.apply(&ones, &mut f);
+    f
 }

@@ -56,10 +56,11 @@ impl KnotVector {
                 )));
             }
         }
-        if knots.len() < degree + 2 {
+        // `degree + 2` written so that no degree overflows it.
+        if knots.len() - 1 <= degree {
             return Err(Error::InvalidDegree(format!(
                 "degree {degree} needs at least {} knots, got {}",
-                degree + 2,
+                degree as u128 + 2,
                 knots.len()
             )));
         }
@@ -135,7 +136,22 @@ impl KnotVector {
                 "an open uniform knot vector needs at least one span".into(),
             ));
         }
-        let mut knots = vec![a; degree + 1];
+        let count = degree
+            .checked_mul(2)
+            .and_then(|d| d.checked_add(spans))
+            .and_then(|c| c.checked_add(1))
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "{spans} spans of degree {degree} need more knots than can be counted"
+                ))
+            })?;
+        let mut knots = Vec::new();
+        knots.try_reserve_exact(count).map_err(|_| {
+            Error::InvalidArgument(format!(
+                "{count} knots ({spans} spans of degree {degree}) do not fit in memory"
+            ))
+        })?;
+        knots.extend(std::iter::repeat_n(a, degree + 1));
         let alpha = (b - a) / spans as f64;
         for k in 1..spans {
             knots.push(a + k as f64 * alpha);

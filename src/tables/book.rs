@@ -13,36 +13,11 @@
 
 use super::{Computed, TableSpec, Tolerance};
 use crate::error::Result;
-use crate::mass::{consistent_mass_constant, with_dirichlet, Kronecker2d};
+use crate::mass::unit_density_mass_2d;
 use crate::solve::cg::{conjugate_gradient, CgVariant};
+use crate::solve::gravity_rhs;
 use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
 use crate::solve::spectrum::spectrum_kronecker;
-use crate::solve::LinearOperator;
-use crate::sparse::SparseMatrix;
-use crate::spline::KnotVector;
-
-/// The 1D factor: consistent mass of degree p on `spans` spans of [0, 1],
-/// with or without the Dirichlet rows and columns.
-pub fn unit_mass_1d(spans: usize, degree: usize, dirichlet: bool) -> Result<SparseMatrix> {
-    let kv = KnotVector::open_uniform(0.0, 1.0, spans, degree)?;
-    let m = consistent_mass_constant(&kv, 1.0)?;
-    Ok(if dirichlet { with_dirichlet(&m) } else { m })
-}
-
-/// The 2D mass matrix M_y ⊗ M_x of the book's tables, in Kronecker form.
-pub fn unit_mass_2d(spans: usize, degree: usize, dirichlet: bool) -> Result<Kronecker2d> {
-    let m = unit_mass_1d(spans, degree, dirichlet)?;
-    Ok(Kronecker2d::new(m.clone(), m))
-}
-
-/// The right-hand side of Tables 4.3–4.4: f = M·(−9.81·1), so that the exact
-/// solution is the constant −9.81.
-pub fn gravity_rhs(m: &dyn LinearOperator) -> Vec<f64> {
-    let ones = vec![-9.81; m.size()];
-    let mut f = vec![0.0; m.size()];
-    m.apply(&ones, &mut f);
-    f
-}
 
 /// CG iteration count for one (p, 1/h) entry of Table 4.3 with a given variant
 /// and operator form (`assembled`: the sparse 2D matrix; otherwise the
@@ -53,7 +28,7 @@ pub fn cg_iterations(
     variant: CgVariant,
     assembled: bool,
 ) -> Result<usize> {
-    let k = unit_mass_2d(spans, degree, true)?;
+    let k = unit_density_mass_2d(spans, degree, true)?;
     let out = if assembled {
         let a = k.assemble();
         let f = gravity_rhs(&a);
@@ -130,7 +105,7 @@ fn table_4_2() -> TableSpec {
         tolerance: |_, _| Tolerance::CONDITION_NUMBER,
         compute: |_| {
             let values = grid(5, &[8, 16, 32, 64], |p, n| {
-                Ok(spectrum_kronecker(&unit_mass_2d(n, p, true)?)?.condition_number())
+                Ok(spectrum_kronecker(&unit_density_mass_2d(n, p, true)?)?.condition_number())
             })?;
             Ok(Computed {
                 values,

@@ -1,0 +1,210 @@
+//! # The stability monitor of a run
+//!
+//! MPM fails in known places: grid crossing, negative P2 masses, time steps
+//! above the CFL limit (thesis Eq. 3.5). The step itself already refuses a
+//! non-finite state or a particle that left the grid
+//! ([`Error::NonPhysicalParticle`], [`Error::ParticleLeftGrid`]). This
+//! monitor adds the checks that need a whole run in view, so that `hompm run`
+//! never reports a diverged run as a success:
+//!
+//! - **diverged** (a typed [`Error::Diverged`] naming the step, the particle
+//!   and the cause):
+//!   - the energy Σ ½ m_p v_p² + ½ σ_p ε_p V_p grows beyond
+//!     [`ENERGY_GROWTH_BOUND`] × (initial energy + the most work the loads
+//!     can do), where the loads can do at most (Σ m_p |g| + Σ |f_p^trac|) × L
+//!     over a domain of length L;
+//!   - a strain |ε_p| ≥ 1, i.e. a 1D Jacobian J = 1 + ε ≤ 0 or a doubled
+//!     length: far outside the small-strain models of the seeds;
+//! - **suspicious** (a [`Warning`], the run goes on): negative lumped masses
+//!   (thesis §5.2), or a time step above the critical step that hompm's own
+//!   CFL study measured for the basis ([`measured_critical_courant`]).
+//!
+//! Items: [`StabilityMonitor`], [`Warning`], [`measured_critical_courant`],
+//! [`ENERGY_GROWTH_BOUND`].
+
+use super::grid::Method;
+use super::musl::Simulation;
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// Largest accepted ratio of the energy to (initial energy + the work the
+/// loads can do). A stable Euler–Cromer run keeps its energy within a few
+/// per cent of that budget; the reproducers of issue #13 grew it ×112 and
+/// ×1485 (docs/conventions.md, "The stability monitor").
+pub const ENERGY_GROWTH_BOUND: f64 = 10.0;
+
+/// The critical Courant number C = c Δt / h (thesis Eq. 3.5) that
+/// `studies::stability_map(16)` measures for the vibrating bar with lumped
+/// acceleration, 16 cells and 4 particles per cell, rounded down to two
+/// digits. `None` where hompm has not measured it (B-splines of degree ≥ 4).
+/// tests/stability.rs recomputes these values from the study.
+pub fn measured_critical_courant(method: Method) -> Option<f64> {
+    match method {
+        Method::Mpm => Some(1.65),
+        Method::MpmP2 => Some(0.55),
+        Method::Ddmpm => Some(2.41),
+        Method::Bsmpm { degree: 1 } => Some(1.65),
+        Method::Bsmpm { degree: 2 } => Some(1.94),
+        Method::Bsmpm { degree: 3 } => Some(1.70),
+        Method::Bsmpm { .. } => None,
+    }
+}
+
+/// Something suspicious that does not stop a run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Warning {
+    /// Some active lumped mass was negative (P2 Lagrange, thesis §5.2).
+    NegativeLumpedMass {
+        /// The first step in which it happened.
+        first_step: usize,
+        /// Steps in which it happened.
+        steps: usize,
+        /// The most negative lumped mass seen.
+        min_lumped_mass: f64,
+    },
+    /// Δt above the measured critical step c Δt_crit / h = C_crit.
+    TimeStepAboveCritical {
+        /// The time step of the run.
+        dt: f64,
+        /// C_crit h / c_max.
+        critical_dt: f64,
+        /// The measured critical Courant number C_crit.
+        critical_courant: f64,
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::NegativeLumpedMass {
+                first_step,
+                steps,
+                min_lumped_mass,
+            } => write!(
+                f,
+                "negative lumped masses in {steps} steps from step {first_step} (min {min_lumped_mass:e}; thesis §5.2)"
+            ),
+            Warning::TimeStepAboveCritical {
+                dt,
+                critical_dt,
+                critical_courant,
+            } => write!(
+                f,
+                "dt = {dt:e} is above the critical step {critical_dt:e} (Courant number {critical_courant} measured by hompm's CFL study)"
+            ),
+        }
+    }
+}
+
+/// Watches a [`Simulation`] step by step: call [`StabilityMonitor::check`]
+/// after every step.
+#[derive(Debug, Clone)]
+pub struct StabilityMonitor {
+    energy_budget: f64,
+    warnings: Vec<Warning>,
+}
+
+impl StabilityMonitor {
+    /// Starts watching `sim`, which will run with steps of `dt`. Records the
+    /// CFL warning at once if dt is above the measured critical step.
+    pub fn new(sim: &Simulation, dt: f64) -> Result<Self> {
+        let p = &sim.particles;
+        let (a, b) = sim.grid.domain();
+        let gravity = sim.settings.gravity.abs();
+        let loads: f64 = (0..p.len())
+            .map(|k| p.mass[k] * gravity + p.traction[k].abs())
+            .sum();
+        let energy_budget = ENERGY_GROWTH_BOUND * (sim.energy().abs() + loads * (b - a));
+        let mut warnings = Vec::new();
+        if let Some(critical_courant) = measured_critical_courant(sim.grid.method()) {
+            let wave_speed = p
+                .density
+                .iter()
+                .map(|&rho| (sim.settings.young / rho).sqrt())
+                .fold(0.0, f64::max);
+            let critical_dt = critical_courant * sim.grid.cell_size() / wave_speed;
+            if dt > critical_dt {
+                warnings.push(Warning::TimeStepAboveCritical {
+                    dt,
+                    critical_dt,
+                    critical_courant,
+                });
+            }
+        }
+        Ok(Self {
+            energy_budget,
+            warnings,
+        })
+    }
+
+    /// Checks the state after a step: [`Error::Diverged`] if the energy left
+    /// its budget or a strain reached ±1; records a negative-mass warning.
+    pub fn check(&mut self, sim: &Simulation) -> Result<()> {
+        let step = sim.diagnostics.steps;
+        let energy = sim.energy();
+        if energy > self.energy_budget {
+            let p = &sim.particles;
+            let fastest = (0..p.len()).max_by(|&i, &j| p.v[i].abs().total_cmp(&p.v[j].abs()));
+            return Err(Error::Diverged {
+                step,
+                time: sim.time,
+                particle: fastest,
+                cause: format!(
+                    "the energy {energy:e} exceeds {ENERGY_GROWTH_BOUND} × (initial energy + work of the loads) = {:e} (the particle named is the fastest)",
+                    self.energy_budget
+                ),
+            });
+        }
+        if let Some(k) = sim.particles.strain.iter().position(|e| e.abs() >= 1.0) {
+            return Err(Error::Diverged {
+                step,
+                time: sim.time,
+                particle: Some(k),
+                cause: format!(
+                    "strain {:e} has |ε| ≥ 1 (Jacobian {:e})",
+                    sim.particles.strain[k],
+                    1.0 + sim.particles.strain[k]
+                ),
+            });
+        }
+        self.record_negative_masses(sim);
+        Ok(())
+    }
+
+    fn record_negative_masses(&mut self, sim: &Simulation) {
+        let d = &sim.diagnostics;
+        if d.negative_mass_steps == 0 {
+            return;
+        }
+        let existing = self
+            .warnings
+            .iter_mut()
+            .find(|w| matches!(w, Warning::NegativeLumpedMass { .. }));
+        match existing {
+            Some(Warning::NegativeLumpedMass {
+                steps,
+                min_lumped_mass,
+                ..
+            }) => {
+                *steps = d.negative_mass_steps;
+                *min_lumped_mass = d.min_lumped_mass;
+            }
+            _ => self.warnings.push(Warning::NegativeLumpedMass {
+                first_step: d.steps,
+                steps: d.negative_mass_steps,
+                min_lumped_mass: d.min_lumped_mass,
+            }),
+        }
+    }
+
+    /// The warnings recorded so far, in the order they first happened.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// The energy above which [`StabilityMonitor::check`] stops the run.
+    pub fn energy_budget(&self) -> f64 {
+        self.energy_budget
+    }
+}

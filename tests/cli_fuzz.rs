@@ -1,0 +1,250 @@
+//! The command line as a function, fuzzed (issue #13): `hompm::cli::run`
+//! is fed generated argument vectors (boundary values, huge sizes, NaN,
+//! unknown names, mismatched lists) under the default limits. Whatever the
+//! input: no panic; an error, or a result whose numbers are finite; valid
+//! JSON without `null` under `--json`; and any huge size is refused, not
+//! attempted.
+
+use hompm::cli;
+use proptest::prelude::*;
+
+/// Counts: boundary values and sizes no machine can hold.
+const COUNTS: &[&str] = &[
+    "0",
+    "1",
+    "2",
+    "3",
+    "7",
+    "16",
+    "-1",
+    "1.5",
+    "abc",
+    "",
+    "9223372036854775807",
+    "18446744073709551615",
+    "18446744073709551616",
+    "100000000000",
+];
+/// A count is huge when no run could use it.
+fn is_huge(v: &str) -> bool {
+    v.len() >= 10
+}
+const FLOATS: &[&str] = &[
+    "0", "-1", "1e-5", "0.01", "0.5", "1", "31.25", "nan", "inf", "-inf", "1e308", "5e-324", "-0",
+];
+const LISTS: &[&str] = &[
+    "0,0,1,1",
+    "0,0,0,0.5,1,1,1",
+    "0,1",
+    "0,0.25,0.5,0.75,1",
+    "0.1,0.4,0.6,0.9",
+    "1,nan",
+    "0,0,5e-324,5e-324",
+    "-1e308,-1e308,1e308,1e308",
+    "1,0.5,0",
+    "",
+    "0,1e308",
+    "1,2,3",
+    "0.2,0.5,0.7",
+    "x",
+];
+const METHODS: &[&str] = &["mpm", "mpm-p2", "ddmpm", "bsmpm", "bogus"];
+const MAPPINGS: &[&str] = &["direct", "tls", "cubic-spline", "nope"];
+const MASSES: &[&str] = &["lumped", "consistent", "richardson", "heavy"];
+const SOLVERS: &[&str] = &["cg", "pmg", "richardson", "direct", "bogus"];
+const RECONSTRUCTIONS: &[&str] = &[
+    "tls",
+    "tls-conservative",
+    "cubic-spline",
+    "cubic-spline-natural",
+    "mls",
+    "spline",
+];
+const SCENES: &[&str] = &[
+    "vibrating-bar",
+    "column-self-weight",
+    "column-top-load",
+    "column-compaction",
+];
+const TABLE_IDS: &[&str] = &["no-such-table", "", "book-4.2\n"];
+
+/// One option: its flag and a value drawn from `pool` (a `None` pool is a
+/// boolean flag).
+fn option(flag: &'static str, pool: Option<&'static [&'static str]>) -> BoxedStrategy<Vec<String>> {
+    match pool {
+        None => Just(vec![flag.to_string()]).boxed(),
+        Some(pool) => prop::sample::select(pool)
+            .prop_map(move |v| vec![flag.to_string(), v.to_string()])
+            .boxed(),
+    }
+}
+
+/// A subcommand with a random subset of its options, in random order.
+fn command(
+    head: Vec<String>,
+    options: Vec<BoxedStrategy<Vec<String>>>,
+) -> BoxedStrategy<Vec<String>> {
+    let n = options.len();
+    (options, prop::collection::vec(any::<bool>(), n))
+        .prop_map(|(opts, keep)| {
+            opts.into_iter()
+                .zip(keep)
+                .filter_map(|(o, k)| k.then_some(o))
+                .collect::<Vec<_>>()
+        })
+        .prop_shuffle()
+        .prop_map(move |chosen| {
+            let mut args = head.clone();
+            args.extend(chosen.into_iter().flatten());
+            args
+        })
+        .boxed()
+}
+
+fn arguments() -> impl Strategy<Value = Vec<String>> {
+    let basis = command(
+        vec!["basis".into()],
+        vec![
+            option("--degree", Some(COUNTS)),
+            option("--knots", Some(LISTS)),
+            option("--at", Some(LISTS)),
+            option("--derivatives", None),
+            option("--json", None),
+        ],
+    );
+    let mass = command(
+        vec!["mass".into()],
+        vec![
+            option("--degree", Some(COUNTS)),
+            option("--spans", Some(COUNTS)),
+            option("--dim", Some(&["1", "2", "3", "0", "-2"])),
+            option("--dirichlet", None),
+            option("--condition", None),
+            option("--solve", Some(SOLVERS)),
+            option("--tol", Some(FLOATS)),
+            option("--json", None),
+        ],
+    );
+    let reconstruct = command(
+        vec!["reconstruct".into()],
+        vec![
+            option("--method", Some(RECONSTRUCTIONS)),
+            option("--cells", Some(LISTS)),
+            option("--points", Some(LISTS)),
+            option("--values", Some(LISTS)),
+            option("--integrals", Some(LISTS)),
+            option("--order", Some(COUNTS)),
+            option("--at", Some(LISTS)),
+            option("--json", None),
+        ],
+    );
+    let run = prop::sample::select(SCENES).prop_flat_map(|scene| {
+        command(
+            vec!["run".into(), scene.into()],
+            vec![
+                option("--method", Some(METHODS)),
+                option("--degree", Some(COUNTS)),
+                option("--mapping", Some(MAPPINGS)),
+                option("--mass", Some(MASSES)),
+                option("--cells", Some(COUNTS)),
+                option("--ppc", Some(COUNTS)),
+                option("--dt", Some(FLOATS)),
+                option("--steps", Some(COUNTS)),
+                option(
+                    "--params",
+                    Some(&["thesis-table-4.1", "tls-table-2", "nope"]),
+                ),
+                option("--json", None),
+            ],
+        )
+    });
+    let table = command(
+        vec!["table".into()],
+        vec![
+            option("--list", None),
+            option("--json", None),
+            prop::sample::select(TABLE_IDS)
+                .prop_map(|id| vec![id.to_string()])
+                .boxed(),
+        ],
+    );
+    let misc = prop::sample::select(vec![
+        vec![],
+        vec!["frobnicate".to_string()],
+        vec!["--max-memory".into(), "-3".into(), "basis".into()],
+        vec!["--max-seconds".into(), "nan".into(), "table".into()],
+        vec![
+            "reproduce".into(),
+            "--only".into(),
+            "no-such-table".into(),
+            "--out".into(),
+            "target/fuzz-report".into(),
+        ],
+    ]);
+    prop_oneof![3 => basis, 3 => mass, 3 => reconstruct, 4 => run, 1 => table, 1 => misc]
+}
+
+/// Whether a count the command actually uses is huge: `run --degree`
+/// counts only for bsmpm, `reconstruct --order` only for TLS.
+fn uses_a_huge_count(args: &[String]) -> bool {
+    let has = |flag: &str, value: &str| {
+        args.windows(2)
+            .any(|w| w[0] == flag && w[1].starts_with(value))
+    };
+    args.windows(2).any(|w| {
+        let unused = match (args[0].as_str(), w[0].as_str()) {
+            ("run", "--degree") => !has("--method", "bsmpm"),
+            ("reconstruct", "--order") => !has("--method", "tls"),
+            _ => false,
+        };
+        w[0].starts_with("--")
+            && !unused
+            && is_huge(&w[1])
+            && w[1].chars().all(|c| c.is_ascii_digit())
+    })
+}
+
+/// Numbers in a text output: tokens that parse as f64 must be finite.
+fn text_numbers_are_finite(text: &str) -> bool {
+    text.split(|c: char| c.is_whitespace() || ",[]{}():=\"".contains(c))
+        .filter_map(|t| t.parse::<f64>().ok())
+        .all(f64::is_finite)
+}
+
+fn has_null(v: &serde_json::Value) -> bool {
+    match v {
+        serde_json::Value::Null => true,
+        serde_json::Value::Array(a) => a.iter().any(has_null),
+        serde_json::Value::Object(m) => m.values().any(has_null),
+        _ => false,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn any_command_line_is_an_error_or_a_finite_result(args in arguments()) {
+        let started = std::time::Instant::now();
+        let outcome = cli::run(&args);
+        if std::env::var_os("HOMPM_FUZZ_TRACE").is_some() {
+            eprintln!("{:.3} s {args:?}", started.elapsed().as_secs_f64());
+        }
+        let huge = uses_a_huge_count(&args);
+        match outcome {
+            Err(e) => {
+                prop_assert!(!cli::one_line(&e.to_string()).contains('\n'));
+            }
+            Ok(out) => {
+                prop_assert!(!huge, "{args:?} was attempted, not refused");
+                prop_assert!(out.failure.is_none());
+                prop_assert!(text_numbers_are_finite(&out.stdout), "{args:?}: {}", out.stdout);
+                if args.iter().any(|a| a == "--json") && args.first().is_some_and(|c| c != "table" || args.iter().any(|a| a == "--list")) {
+                    let v: serde_json::Value = serde_json::from_str(&out.stdout)
+                        .map_err(|e| TestCaseError::fail(format!("{args:?}: invalid JSON: {e}")))?;
+                    prop_assert!(!has_null(&v), "{args:?}: null in {}", out.stdout);
+                }
+            }
+        }
+    }
+}
