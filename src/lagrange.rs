@@ -115,11 +115,20 @@ impl LagrangeBasis {
     }
 
     /// Node positions: element ends, and for P2 also element mid-points.
+    /// The last node is b itself (a + n·step can round past b).
     pub fn nodes(&self) -> Vec<f64> {
         let d = self.order.degree();
         let n = d * self.elements + 1;
         let step = self.element_size() / d as f64;
-        (0..n).map(|k| self.a + k as f64 * step).collect()
+        (0..n)
+            .map(|k| {
+                if k + 1 == n {
+                    self.b
+                } else {
+                    self.a + k as f64 * step
+                }
+            })
+            .collect()
     }
 
     /// The element k with x_k ≤ x < x_{k+1}; the right end belongs to the last.

@@ -113,3 +113,43 @@ fn lagrange_rejects_bad_input() {
         5
     );
 }
+
+proptest! {
+    /// Thesis §5.1–5.2 as the engine evaluates them: `evaluate_into` gives
+    /// bitwise the numbers of `Basis1d::local` (N_i(x) = N̂_i(T⁻¹(x)),
+    /// ∇N_i = N̂_i'(ξ)/h), on a shifted domain, and the global functions are
+    /// nodal at `nodes()`: N_i(x_j) = δ_ij.
+    #[test]
+    fn engine_evaluation_is_the_specification_and_nodal_on_any_domain(
+        elements in 1usize..12,
+        quadratic in any::<bool>(),
+        a in -3.0..3.0f64,
+        length in 0.5..4.0f64,
+        t in 0.0..=1.0f64,
+    ) {
+        let order = if quadratic { LagrangeOrder::Quadratic } else { LagrangeOrder::Linear };
+        let basis = LagrangeBasis::new(a, a + length, elements, order).unwrap();
+        prop_assert_eq!(basis.elements(), elements);
+        prop_assert_eq!(basis.degree(), if quadratic { 2 } else { 1 });
+        let x = a + t * length;
+        let h = length / elements as f64;
+        let k = (((x - a) / h) as usize).min(elements - 1);
+        prop_assert_eq!(basis.element_of(x).unwrap(), k);
+        let local = basis.local(x, 1).unwrap();
+        let (mut values, mut gradients) = ([0.0; 3], [0.0; 3]);
+        let first = basis.evaluate_into(x, &mut values, &mut gradients).unwrap();
+        let w = basis.degree() + 1;
+        prop_assert_eq!(first, local.first);
+        prop_assert_eq!(&values[..w], local.values());
+        prop_assert_eq!(&gradients[..w], &local.derivatives[1][..]);
+        let nodes = basis.nodes();
+        prop_assert_eq!(nodes.len(), basis.num_basis());
+        for (j, &xj) in nodes.iter().enumerate() {
+            let first = basis.evaluate_into(xj, &mut values, &mut gradients).unwrap();
+            for (i, v) in values[..w].iter().enumerate() {
+                let delta = if first + i == j { 1.0 } else { 0.0 };
+                prop_assert!((v - delta).abs() < 1e-12, "N_{}({xj}) = {v}", first + i);
+            }
+        }
+    }
+}
