@@ -5,7 +5,7 @@ mod common;
 
 use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::Mapping;
-use hompm::tables::tls::conservation_errors;
+use hompm::studies::tls_paper::conservation_errors;
 use hompm::tables::{self, RunOptions};
 
 /// TLS conserves mass and momentum to machine precision (≤ 1e-13) for MPM,

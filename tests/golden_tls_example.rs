@@ -1,6 +1,6 @@
 //! TLS paper Table 1 and book §4.4.2: the TLS example.
 
-use hompm::tables::tls::{example_reconstructions, relative_integral_error, rms_error};
+use hompm::studies::tls_example::{example_reconstructions, relative_integral_error, rms_error};
 use hompm::tables::{self, Published, RunOptions, Status};
 
 fn published(id: &str) -> Published {

@@ -30,7 +30,7 @@ use crate::spline::KnotVector;
 use serde::Serialize;
 
 /// The MPM variant, i.e. the basis of the background grid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// Standard MPM with P1 Lagrange functions.

@@ -42,7 +42,7 @@ use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
 /// How particle data reaches the grid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mapping {
     /// Particles as quadrature points (standard MPM).

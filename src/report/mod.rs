@@ -269,7 +269,7 @@ pub fn convergence_charts(
     dir: &Path,
     studies: &mut BTreeMap<String, serde_json::Value>,
 ) -> Result<()> {
-    use crate::tables::tls::{fig6_errors, fig6_variants, fitted_order};
+    use crate::studies::tls_paper::{fig6_errors, fig6_variants, fitted_order};
     let mut data = Vec::new();
     for (m, map) in fig6_variants() {
         let e = fig6_errors(m, map)?;

@@ -55,7 +55,10 @@ fn compute(quick: bool) -> Result<Computed> {
     let compaction = if quick {
         None
     } else {
-        Some(super::tls::compaction(Method::Mpm, Mapping::Direct)?)
+        Some(crate::studies::tls_paper::compaction(
+            Method::Mpm,
+            Mapping::Direct,
+        )?)
     };
     let values: Vec<Option<f64>> = vec![
         Some(middle(25.0)?),

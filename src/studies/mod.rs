@@ -7,6 +7,9 @@
 //!   bar for a method at one resolution, with the wall time of the run
 //!   (convergence and work-precision charts).
 
+pub mod tls_example;
+pub mod tls_paper;
+
 use crate::error::{Error, Result};
 use crate::mpm::diagnostics::rms_error;
 use crate::mpm::grid::Method;

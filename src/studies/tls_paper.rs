@@ -1,0 +1,225 @@
+//! # The runs of the TLS paper's tables (and book §4.5)
+//!
+//! Conservation errors of the vibrating bar (TLS paper Tables 3 and 5,
+//! book §4.5), convergence orders (Fig. 6), the column compaction (Table 6;
+//! Fig. 10 and Table 7) and stress errors against an updated-Lagrangian FEM
+//! reference (Fig. 9, book Fig. 4.7). Results are labelled by method and
+//! mapping, never picked by position.
+//!
+//! Items: [`mass_for`], [`TLS_METHODS`], [`conservation_errors`],
+//! [`conservation_errors_for`], [`ConservationByMethod`], [`conservation_by_mapping`],
+//! [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
+//! [`compaction`], [`stress_errors_against_ulfem`].
+
+use super::{bar_errors, BarErrors};
+use crate::error::Result;
+use crate::fem::ulfem::{Ulfem, UlfemMaterial};
+use crate::mpm::diagnostics::relative_l2_error;
+use crate::mpm::grid::Method;
+use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::scenes::{column, vibrating_bar, Discretisation};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+/// The mass matrix the TLS paper pairs with a mapping: the direct mapping
+/// with the lumped mass (standard MPM), a reconstruction with the
+/// consistent mass (TLS paper §5.4), solved by sparse Cholesky.
+pub fn mass_for(mapping: Mapping) -> MassMatrix {
+    match mapping {
+        Mapping::Direct => MassMatrix::Lumped,
+        Mapping::Tls | Mapping::CubicSpline => MassMatrix::Consistent(ConsistentSolver::Cholesky),
+    }
+}
+
+/// The three methods of the TLS paper's tables, in their column order.
+pub const TLS_METHODS: [Method; 3] = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
+
+/// (max mass error, max momentum error) of the vibrating bar of TLS paper
+/// Table 2 over 19 steps of 1e-7 s (t = 1.9e-6 s), consistent mass.
+pub fn conservation_errors(
+    method: Method,
+    mapping: Mapping,
+    cells: usize,
+    ppc: usize,
+) -> Result<(f64, f64)> {
+    conservation_errors_for("tls-table-2", method, mapping, cells, ppc, 1e-7, 19)
+}
+
+/// (max mass error, max momentum error) of a bar parameter set with the
+/// given resolution and time stepping, consistent mass (Cholesky).
+pub fn conservation_errors_for(
+    params: &str,
+    method: Method,
+    mapping: Mapping,
+    cells: usize,
+    ppc: usize,
+    dt: f64,
+    steps: usize,
+) -> Result<(f64, f64)> {
+    let p = vibrating_bar::parameters(params)?;
+    let mass = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let mut sim = p.simulation(&Discretisation::new(method, mapping, mass, cells, ppc))?;
+    sim.run(dt, steps)?;
+    Ok((
+        sim.diagnostics.max_mass_error,
+        sim.diagnostics.max_momentum_error,
+    ))
+}
+
+/// (Error_M, Error_P) of each method under one mapping.
+pub type ConservationByMethod = Vec<(Method, (f64, f64))>;
+
+/// `run(method, mapping)` for the cubic-spline and the TLS mapping and each
+/// of [`TLS_METHODS`] (TLS paper Tables 3, 5, 7), in parallel, labelled.
+pub fn conservation_by_mapping(
+    run: impl Fn(Method, Mapping) -> Result<(f64, f64)> + Sync,
+) -> Result<Vec<(Mapping, ConservationByMethod)>> {
+    [Mapping::CubicSpline, Mapping::Tls]
+        .into_iter()
+        .map(|mapping| {
+            let errors: Vec<(f64, f64)> = TLS_METHODS
+                .par_iter()
+                .map(|&m| run(m, mapping))
+                .collect::<Result<_>>()?;
+            Ok((mapping, TLS_METHODS.into_iter().zip(errors).collect()))
+        })
+        .collect()
+}
+
+/// The nine method/mapping combinations of TLS paper Fig. 6, in table order.
+pub fn fig6_variants() -> Vec<(Method, Mapping)> {
+    TLS_METHODS
+        .into_iter()
+        .flat_map(|m| [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls].map(|map| (m, map)))
+        .collect()
+}
+
+/// Least-squares slope of log(error) against log(h): the convergence order.
+pub fn fitted_order(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let x: Vec<f64> = h.iter().map(|v| v.ln()).collect();
+    let y: Vec<f64> = e.iter().map(|v| v.ln()).collect();
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    sxy / sxx
+}
+
+/// Errors of one Fig. 6 variant at 5, 10, 20 and 40 cells (12 PPC,
+/// Δt = 1e-7 s, 19 steps), with [`mass_for`] the mapping.
+pub fn fig6_errors(method: Method, mapping: Mapping) -> Result<Vec<BarErrors>> {
+    [5, 10, 20, 40]
+        .par_iter()
+        .map(|&cells| {
+            let d = Discretisation::new(method, mapping, mass_for(mapping), cells, 12);
+            bar_errors("tls-table-2", &d, 1e-7, 19)
+        })
+        .collect()
+}
+
+/// Outcome of one column-compaction run (TLS paper §6.2, Table 6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompactionRun {
+    /// Relative L2 error of the particle stress against ρ₀b(H − X) at t = 0.5 s.
+    pub stress_error: f64,
+    /// Maximal relative mass error over steps.
+    pub mass_error: f64,
+    /// Maximal relative momentum error over steps.
+    pub momentum_error: f64,
+    /// Grid crossings.
+    pub crossings: usize,
+    /// Maximal |u_p| at the end.
+    pub max_displacement: f64,
+}
+
+/// Runs the compaction of TLS paper Table 6 (50 elements, 20 PPC, Δt = 1e-4 s,
+/// 0.5 s) with [`mass_for`] the mapping. Three tables and the report share
+/// these runs, so they are cached per process by (method, mapping).
+pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
+    type Cache = Mutex<HashMap<(Method, Mapping), CompactionRun>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(r) = cache
+        .lock()
+        .ok()
+        .and_then(|c| c.get(&(method, mapping)).copied())
+    {
+        return Ok(r);
+    }
+    let p = column::parameters("tls-table-6")?;
+    let mut sim = p.simulation(&Discretisation::new(
+        method,
+        mapping,
+        mass_for(mapping),
+        50,
+        20,
+    ))?;
+    sim.run(1e-4, 5000)?;
+    let exact: Vec<f64> = sim
+        .particles
+        .x0
+        .iter()
+        .map(|&x| p.equilibrium_stress(x, sim.time))
+        .collect();
+    let run = CompactionRun {
+        stress_error: relative_l2_error(&sim.particles.stress, &exact)?,
+        mass_error: sim.diagnostics.max_mass_error,
+        momentum_error: sim.diagnostics.max_momentum_error,
+        crossings: sim.diagnostics.grid_crossings,
+        max_displacement: sim.particles.u.iter().fold(0.0, |a: f64, u| a.max(u.abs())),
+    };
+    if let Ok(mut c) = cache.lock() {
+        c.insert((method, mapping), run);
+    }
+    Ok(run)
+}
+
+/// Relative L2 stress errors against a ULFEM reference (`ref_elements`
+/// elements, Δt_ref = 1e-5 s) of a bar parameter set after `steps` steps of
+/// `dt`, for each (method, mapping), labelled, with [`mass_for`] the
+/// mapping. TLS paper §6.1 (Fig. 9), book §4.5 (Fig. 4.7).
+pub fn stress_errors_against_ulfem(
+    params: &str,
+    ref_elements: usize,
+    cells: usize,
+    ppc: usize,
+    dt: f64,
+    steps: usize,
+    variants: &[(Method, Mapping)],
+) -> Result<Vec<((Method, Mapping), f64)>> {
+    let p = vibrating_bar::parameters(params)?;
+    let material = UlfemMaterial {
+        density: p.density,
+        young: p.young,
+        constitutive: p.constitutive,
+        gravity: 0.0,
+    };
+    let mut reference = Ulfem::new(
+        p.length,
+        ref_elements,
+        material,
+        |x| p.velocity(x, 0.0),
+        vec![0, ref_elements],
+    )?;
+    let t_end = dt * steps as f64;
+    let ref_steps = (t_end / 1e-5).round() as usize;
+    for _ in 0..ref_steps {
+        reference.step(t_end / ref_steps as f64)?;
+    }
+    variants
+        .par_iter()
+        .map(|&(m, map)| {
+            let mut sim = p.simulation(&Discretisation::new(m, map, mass_for(map), cells, ppc))?;
+            sim.run(dt, steps)?;
+            let r: Vec<f64> = sim
+                .particles
+                .x0
+                .iter()
+                .map(|&x| reference.stress_at(x))
+                .collect();
+            Ok(((m, map), relative_l2_error(&sim.particles.stress, &r)?))
+        })
+        .collect()
+}
