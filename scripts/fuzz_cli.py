@@ -38,7 +38,12 @@ def generate(rng):
     args = [cmd] + ([rng.choice(SCENES)] if cmd == "run" else [])
     if cmd == "table" and rng.random() < 0.5:
         args.append(rng.choice(["no-such-table", "", "book-4.2\n", "thesis-a1"]))
-    opts = [o for o in SPEC[cmd] if rng.random() < 0.5]
+    # Required options are present most of the time, so that most lines
+    # reach validation and work rather than clap's "required argument".
+    required = {"basis": 3, "mass": 2, "reconstruct": 4}.get(cmd, 0)
+    opts = [o for i, o in enumerate(SPEC[cmd]) if rng.random() < (0.9 if i < required else 0.4)]
+    if cmd == "reconstruct" and rng.random() < 0.9:
+        opts.append(("--at", LISTS))
     rng.shuffle(opts)
     for flag, pool in opts:
         args += [flag] if pool is None else [flag, rng.choice(pool)]
@@ -51,7 +56,7 @@ def classify(args, code, out, err):
     if code == 101 or "panicked" in err:
         return "panic (exit 101)"
     if code == 124:
-        return "timeout"
+        return "timeout after announcing its estimate" if "note:" in err else "timeout, no estimate"
     if code < 0 or code in (134, 137) or "memory allocation" in err:
         return "aborted by the memory cap"
     if code == 0:

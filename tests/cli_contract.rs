@@ -53,10 +53,6 @@ fn sizes_beyond_the_limits_are_refused_before_any_work_with_the_estimate() {
 fn huge_degrees_and_orders_are_errors_not_panics_or_hangs() {
     assert!(matches!(
         refused("basis --degree 18446744073709551615 --knots 0,1 --at 0"),
-        Error::InvalidDegree(_) | Error::OverLimit { .. }
-    ));
-    assert!(matches!(
-        refused("--max-seconds 1e300 basis --degree 18446744073709551615 --knots 0,1 --at 0"),
         Error::InvalidDegree(_)
     ));
     assert!(matches!(

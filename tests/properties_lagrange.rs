@@ -142,6 +142,24 @@ proptest! {
         prop_assert_eq!(first, local.first);
         prop_assert_eq!(&values[..w], local.values());
         prop_assert_eq!(&gradients[..w], &local.derivatives[1][..]);
+        // Second derivatives: N̂'' = (4, −8, 4) for P2 and 0 for P1, over h²,
+        // against a central difference of the gradients inside the element.
+        let second = basis.local(x, 2).unwrap().derivatives[2].clone();
+        let (lo, hi) = (a + k as f64 * h, a + (k + 1) as f64 * h);
+        let (y, d) = (lo + 0.5 * (hi - lo), 1e-4 * h);
+        let (mut g_minus, mut g_plus) = ([0.0; 3], [0.0; 3]);
+        basis.evaluate_into(y - d, &mut values, &mut g_minus).unwrap();
+        basis.evaluate_into(y + d, &mut values, &mut g_plus).unwrap();
+        for i in 0..w {
+            let fd = (g_plus[i] - g_minus[i]) / (2.0 * d);
+            prop_assert!((second[i] - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "N''_{i} = {} vs {fd}", second[i]);
+        }
+        // The gradient jumps at every interior element boundary a + k h.
+        let breaks = basis.gradient_breaks();
+        prop_assert_eq!(breaks.len(), elements - 1);
+        for (j, b) in breaks.iter().enumerate() {
+            prop_assert!((b - (a + (j + 1) as f64 * h)).abs() <= 1e-12 * (1.0 + a.abs() + length));
+        }
         let nodes = basis.nodes();
         prop_assert_eq!(nodes.len(), basis.num_basis());
         for (j, &xj) in nodes.iter().enumerate() {

@@ -70,8 +70,10 @@ fn all_finite(v: Vec<f64>, x: f64) -> Result<Vec<f64>> {
 
 /// `hompm basis`: φ_i(x) (and φ_i'(x)) of [`KnotVector`] at each point.
 pub fn basis(a: BasisArgs, limits: &Limits) -> Result<Output> {
-    check_limits(&a, limits)?;
+    // The knot vector is checked first: it is O(knots), and a degree that
+    // does not fit the knots is a clearer message than a time estimate.
     let kv = KnotVector::new(a.knots.clone(), a.degree)?;
+    check_limits(&a, limits)?;
     let mut values = Vec::with_capacity(a.at.len());
     let mut derivatives = Vec::new();
     for &x in &a.at {

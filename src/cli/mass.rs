@@ -99,7 +99,8 @@ fn validate(a: &MassArgs) -> Result<()> {
 
 /// Memory and time from the sizes alone: n = spans + p (− 2) functions per
 /// direction, N = n^dim DOFs, (2p + 1)^dim nonzeros per row (40 bytes each
-/// while assembling), a dense n × n matrix for the spectrum, and a
+/// while assembling), the 1D assembly's (p + 1)³ triplets per span, a dense
+/// n × n matrix for the spectrum, and a
 /// Cholesky factor of N × (bandwidth) for the direct solver.
 fn check_limits(a: &MassArgs, limits: &Limits) -> Result<()> {
     let p = a.degree as f64;
@@ -114,7 +115,14 @@ fn check_limits(a: &MassArgs, limits: &Limits) -> Result<()> {
             )
         }
     };
-    limits.check_memory(what("the mass matrix"), nnz * 40.0, "a sparse matrix")?;
+    // `mass::consistent_mass` collects (p + 1)² triplets of 24 bytes per
+    // Gauss point, p + 1 points per span, before it sums them.
+    let triplets = a.spans as f64 * (p + 1.0).powi(3) * 24.0;
+    limits.check_memory(
+        what("the mass matrix"),
+        triplets + nnz * 40.0,
+        "assembly storage",
+    )?;
     if a.condition {
         limits.check_memory(what("--condition"), n * n * 8.0 * 2.0, "a dense matrix")?;
         limits.check_time(what("--condition"), n.powi(3) * SECONDS_PER_EIGEN_FLOP)?;
@@ -132,7 +140,7 @@ fn check_limits(a: &MassArgs, limits: &Limits) -> Result<()> {
         Some(SolverArg::Pmg) => {
             limits.check_memory(
                 what("--solve pmg"),
-                p * nnz * 40.0 + p * n * n * 16.0,
+                p * (triplets + nnz * 40.0 + n * n * 16.0),
                 "a p-hierarchy",
             )?;
             limits.check_time(what("--solve pmg"), 100.0 * p * nnz * SECONDS_PER_NONZERO)?;

@@ -69,7 +69,7 @@ pub fn conjugate_gradient_observed(
         let pap = dot(&p, &ap);
         if pap.is_nan() || pap <= 0.0 {
             return Err(Error::Singular(format!(
-                "CG met a direction with pᵀAp = {pap:e} at iteration {k}: the matrix is not SPD"
+                "CG met a direction with pᵀAp = {pap:e} at iteration {k}: the matrix is not SPD, or its condition number exceeds what double precision resolves"
             )));
         }
         let alpha = rr / pap;

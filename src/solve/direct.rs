@@ -14,7 +14,11 @@ pub fn cholesky_solve(a: &SparseMatrix, b: &[f64]) -> Result<Vec<f64>> {
     let m = a.to_faer()?;
     let llt = m
         .sp_cholesky(faer::Side::Lower)
-        .map_err(|e| Error::Singular(format!("Cholesky failed: {e:?}")))?;
+        .map_err(|e| {
+            Error::Singular(format!(
+                "Cholesky failed ({e:?}): the matrix is not SPD, or its condition number exceeds what double precision resolves"
+            ))
+        })?;
     let rhs = faer::Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
     let x = llt.solve(&rhs);
     let out: Vec<f64> = (0..b.len()).map(|i| x[(i, 0)]).collect();
