@@ -196,13 +196,39 @@ fn advance(sim: &mut Simulation, dt: f64, steps: usize) -> Result<Vec<Warning>> 
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     for _ in 0..steps {
-        sim.step(dt)?;
-        monitor.check(sim)?;
+        sim.step(dt)
+            .and_then(|()| monitor.check(sim))
+            .map_err(|e| with_time_step_cause(e, &monitor, sim.time))?;
         bar.inc(1);
     }
     bar.finish_and_clear();
     sim.diagnostics.final_energy = sim.energy();
     Ok(monitor.warnings().to_vec())
+}
+
+/// A run that failed with Δt above the measured critical step failed
+/// because of it: the error becomes [`Error::Diverged`] naming that cause,
+/// keeping the step and particle of the original error.
+fn with_time_step_cause(e: Error, monitor: &StabilityMonitor, time: f64) -> Error {
+    let Some(w) = monitor
+        .warnings()
+        .iter()
+        .find(|w| matches!(w, Warning::TimeStepAboveCritical { .. }))
+    else {
+        return e;
+    };
+    let (step, particle) = match &e {
+        Error::NonPhysicalParticle { step, particle, .. } => (*step, Some(*particle)),
+        Error::ParticleLeftGrid { step, particle, .. } => (*step, Some(*particle)),
+        Error::Diverged { step, particle, .. } => (*step, *particle),
+        _ => return e,
+    };
+    Error::Diverged {
+        step,
+        time,
+        particle,
+        cause: format!("{w}; {e}"),
+    }
 }
 
 /// `hompm run`.
