@@ -5,6 +5,8 @@
 //! singular systems, solvers that do not converge and runs that blow up.
 //! Public functions return `Result<_, Error>`; none of them panics on bad input
 //! and none returns a silent NaN.
+//!
+//! Items: [`Error`], [`Result`], [`finite`], [`finite_named`].
 
 /// The one error type of hompm. Each message names the offending value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

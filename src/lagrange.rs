@@ -12,6 +12,9 @@
 //! −1/8 at ξ = 1/4 and 3/4), which is what makes lumped P2 masses negative
 //! (thesis §5.2). Elements are half-open [x_k, x_{k+1}); the right end of the
 //! domain belongs to the last element, as for knot spans.
+//!
+//! Items: [`LagrangeOrder`], [`reference_shape_functions`],
+//! [`reference_shape_gradients`], [`LagrangeBasis`].
 
 use crate::basis::{Basis1d, LocalBasis};
 use crate::error::{finite, Error, Result};

@@ -5,6 +5,13 @@
 //! (book Eq. 4.3, thesis A.2) and variational lumping m = ∫ ρ φ dΩ (book
 //! Eq. 4.4). The assembly from element matrices, M = Σ_e T_eᵀ M_e T_e, is
 //! thesis Appendix A.1.
+//!
+//! Items: [`assemble`], [`row_sum_lumping`], [`lumped_by_row_sum`],
+//! [`consistent_mass`], [`consistent_mass_constant`], [`mixed_mass`],
+//! [`lumped_variational`], [`material_point_mass`],
+//! [`material_point_lumped_mass`], [`add_lumped_mass`], [`interior_indices`],
+//! [`with_dirichlet`], [`Kronecker2d`], [`unit_density_mass`],
+//! [`unit_density_mass_2d`].
 
 use crate::error::finite_named;
 use crate::error::{Error, Result};

@@ -9,6 +9,9 @@
 //!   Eq. (4.38): N_g/N_e points per element).
 //! - [`half_span_rule`]: the thesis' rule of §7.2, two Gauss points on each half
 //!   of every non-empty knot span, weights (ξ_{j+1} − ξ_j)/4.
+//!
+//! Items: [`QuadraturePoint`], [`GaussLegendre`], [`MAX_GAUSS_POINTS`],
+//! [`gauss_on_cells`], [`half_span_rule`], [`half_span_points`].
 
 use crate::error::{finite, Error, Result};
 

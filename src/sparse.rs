@@ -6,6 +6,8 @@
 //! access to the rows of the matrix while it overwrites the iterate, which is
 //! why hompm keeps this small CSR type; factorisations and eigenvalues are
 //! delegated to faer ([`SparseMatrix::to_faer`], [`SparseMatrix::to_dense`]).
+//!
+//! Items: [`SparseMatrix`], [`BandAssembly`].
 
 use crate::error::{Error, Result};
 

@@ -8,8 +8,8 @@
 //! are documented in docs/conventions.md, "Up-front limits"); a long but
 //! feasible command is not refused, it prints its estimate on stderr.
 //!
-//! Items: [`Limits`], [`parse_bytes`], [`parse_seconds`], [`bytes`],
-//! [`seconds`].
+//! Items: [`Limits`], [`ANNOUNCE_SECONDS`], [`bytes`], [`seconds`],
+//! [`parse_bytes`], [`parse_seconds`].
 
 use crate::error::{Error, Result};
 

@@ -11,6 +11,8 @@
 //! v_i ← v_i + Δt a_i, Δu_i = Δt v_i, x_i ← x_i + Δu_i,
 //! Δε_e = (Δu_{e+1} − Δu_e)/h_e, σ_e ← σ_e + E Δε_e or + (E − σ_e) Δε_e,
 //! h_e ← h_e (1 + Δε_e).
+//!
+//! Items: [`UlfemMaterial`], [`Ulfem`].
 
 use crate::error::{finite, Error, Result};
 use crate::mpm::musl::Constitutive;

@@ -9,6 +9,8 @@
 //! - grid crossings: particles passing a point where a basis gradient jumps
 //!   (thesis §3.3, §6.2);
 //! - maximal strain, lumped-mass sign, and energy.
+//!
+//! Items: [`rms_error`], [`relative_l2_error`], [`RunDiagnostics`].
 
 use super::mapping::Projection;
 use crate::error::{Error, Result};

@@ -20,6 +20,8 @@
 //! ([`Grid::breaks_at_or_below`], for grid crossings) cost O(1) on the
 //! uniform grids of the seeds: a guess from the spacing, corrected against
 //! the stored cell boundaries so that the answer is exact.
+//!
+//! Items: [`Method`], [`Shape`], [`Grid`].
 
 use crate::basis::{Basis1d, Stencils};
 use crate::error::{Error, Result};

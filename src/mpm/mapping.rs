@@ -25,6 +25,11 @@
 //! allocates nothing; TLS allocates its cell fits and a consistent mass its
 //! sparse matrix and factorisation, the same amount every step
 //! (tests/allocations.rs).
+//!
+//! Items: [`Mapping`], [`ConsistentSolver`], [`MassMatrix`],
+//! [`TLS_GAUSS_POINTS`], [`MappingWorkspace`], [`internal_force`],
+//! [`Projection`], [`project_velocity`], [`assemble_projection`],
+//! [`solve_projection`], [`diagnose_projection`].
 
 use super::grid::Grid;
 use super::particles::Particles;

@@ -25,6 +25,8 @@
 //! and, with the direct mapping and a lumped mass, allocates nothing
 //! (tests/allocations.rs). The monitors of a run are recorded in one place,
 //! [`RunDiagnostics`].
+//!
+//! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;

@@ -5,6 +5,8 @@
 //! mass m_p = ρ_p⁰ V_p⁰ (book §4.2.2, thesis §3.2). The initial position X_p
 //! is kept because the seeds compare with analytic solutions in the
 //! reference configuration (thesis §2.2).
+//!
+//! Items: [`Particles`].
 
 use crate::error::{finite_named, Error, Result};
 

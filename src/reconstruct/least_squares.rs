@@ -5,6 +5,9 @@
 //! equations D α = B F with D = Σ_p ψ(x_p) ψ(x_p)ᵀ, B = [ψ(x_1) … ψ(x_N)],
 //! F = [f_1 … f_N]ᵀ. The condition number κ(D) is reported because it detects
 //! data layouts that make the fit meaningless (TLS paper §5.3).
+//!
+//! Items: [`LeastSquaresFit`], [`SINGULAR_CONDITION`], [`normal_matrix`],
+//! [`symmetric_condition_number`], [`fit`], [`fit_rows`].
 
 use crate::error::{finite_named, Error, Result};
 use nalgebra::allocator::Allocator;

@@ -12,6 +12,9 @@
 //! and the tensor product w(r_x) w(r_y) in 2D (Eq. 16). Its support is
 //! |x − x_p| < 3l. A singular A (too few points in the support, or all on a
 //! line in 2D) is `Error::Singular`.
+//!
+//! Items: [`quadratic_spline_weight`], [`MLS_MAX_CONDITION`],
+//! [`shape_functions_1d`], [`shape_functions_2d`], [`reconstruct_1d`].
 
 use crate::error::{finite, Error, Result};
 use nalgebra::{DMatrix, DVector};

@@ -20,6 +20,11 @@
 //! repaired either with *virtual data points* — the neighbouring cell's TLS
 //! evaluated at the shared boundary, added to the data but not to the
 //! constraint — or with a reduced basis, or reported as an error.
+//!
+//! Items: [`MAX_ORDER`], [`TaylorBasis`], [`CellFit`], [`fit_cell`],
+//! [`DegenerateCells`], [`Assignment`], [`TlsOptions`],
+//! [`TlsReconstruction`], [`reconstruct`], [`CellBins`], [`TlsScratch`],
+//! [`reconstruct_binned`].
 
 use super::least_squares::fit_rows;
 use crate::error::{finite, finite_named, Error, Result};

@@ -3,6 +3,8 @@
 //! Every chart is written twice, as SVG and PNG, with DejaVu Sans embedded
 //! (the `dejavu` crate) so that no system font is needed. Axes carry units,
 //! decades are shown on log scales, and every series has a legend entry.
+//!
+//! Items: [`Style`], [`Series`], [`Chart`], [`write`].
 
 use crate::error::{Error, Result};
 use plotters::coord::Shift;

@@ -11,6 +11,13 @@
 //!
 //! A new table is a registration in `tables`; a new chart is one function
 //! here that turns a study into a [`charts::Chart`].
+//!
+//! Items: [`Unimplemented`], [`unimplemented`], [`ReportJson`],
+//! [`run_tables`], [`Baseline`], [`baseline_of`], [`regressions`],
+//! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
+//! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],
+//! [`speed_chart`], [`solver_charts`], [`stability_chart`], [`build`],
+//! [`charts`].
 
 pub mod charts;
 

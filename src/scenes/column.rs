@@ -13,6 +13,8 @@
 //!
 //! where g is the *magnitude* 9.81 and the body force points down (the
 //! thesis' tables write g = −9.81 for the vector; docs/conventions.md).
+//!
+//! Items: [`ColumnParameters`], [`PARAMETER_SETS`], [`parameters`].
 
 use super::Discretisation;
 use crate::error::{Error, Result};

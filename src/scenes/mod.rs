@@ -8,6 +8,8 @@
 //!   (Tables 2/4), book §4.5 (Table 4.1);
 //! - [`column`]: the column under self-weight (thesis §4.2, Tables 4.3/4.4,
 //!   series solution Eq. 4.2) and with a top load (thesis Table 8.1).
+//!
+//! Items: [`Discretisation`], [`column`], [`vibrating_bar`].
 
 pub mod column;
 pub mod vibrating_bar;

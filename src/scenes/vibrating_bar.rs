@@ -9,6 +9,8 @@
 //!
 //! The TLS paper prints σ = v₀√(E/ρ)…; the dimensionally right factor is
 //! √(Eρ) = E/c (book Eq. 4.52), which hompm uses (docs/conventions.md).
+//!
+//! Items: [`BarParameters`], [`PARAMETER_SETS`], [`parameters`].
 
 use super::Discretisation;
 use crate::error::{Error, Result};

@@ -9,6 +9,9 @@
 //! [`CgVariant::Recursive`] (Hestenes–Stiefel, residual updated r ← r − αAp),
 //! [`CgVariant::TrueResidual`] (r = b − A x recomputed each step) and
 //! [`CgVariant::PolakRibiere`] (β = r_{k+1}ᵀ(r_{k+1} − r_k)/r_kᵀr_k).
+//!
+//! Items: [`CgVariant`], [`conjugate_gradient`],
+//! [`conjugate_gradient_observed`].
 
 use super::{check_rhs, dot, norm, IterativeResult, LinearOperator};
 use crate::error::{Error, Result};

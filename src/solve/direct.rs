@@ -3,6 +3,8 @@
 //! The direct solver the thesis (§7.2) compares Richardson against: M^C is SPD,
 //! so a sparse Cholesky factorisation (faer) solves M^C v = P exactly up to
 //! rounding.
+//!
+//! Items: [`cholesky_solve`].
 
 use crate::error::{Error, Result};
 use crate::sparse::SparseMatrix;

@@ -11,6 +11,10 @@
 //! - [`direct`]: sparse Cholesky (faer), the reference;
 //! - [`gravity_rhs`]: the right-hand side of the book's test problem
 //!   (`mass::unit_density_mass_2d`).
+//!
+//! Items: [`LinearOperator`], [`IterativeResult`], [`norm`], [`dot`],
+//! [`gravity_rhs`], [`cg`], [`direct`], [`pmultigrid`], [`richardson`],
+//! [`spectrum`].
 
 pub mod cg;
 pub mod direct;

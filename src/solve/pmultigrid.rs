@@ -20,6 +20,9 @@
 //! When the finest level is already p = 1 (book Table 4.4, first row) a cycle
 //! is ν₁ smoothing, a CG solve (tolerance 1e-4) of the residual equation on
 //! that level, and ν₂ smoothing (docs/conventions.md).
+//!
+//! Items: [`Smoother`], [`Transfer`], [`PMultigridOptions`], [`PMultigrid`],
+//! [`gauss_seidel_sweep`].
 
 use super::cg::{conjugate_gradient, CgVariant};
 use super::direct::cholesky_solve;

@@ -5,6 +5,8 @@
 //! (the thesis uses ε = 1e-9). The error contracts by the spectral radius of
 //! I − (M^L)⁻¹ M^C ([`richardson_contraction`]); the iteration converges only
 //! while that radius is below one.
+//!
+//! Items: [`richardson`], [`richardson_contraction`].
 
 use super::{check_rhs, norm, IterativeResult};
 use crate::error::{Error, Result};

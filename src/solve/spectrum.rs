@@ -5,6 +5,9 @@
 //! matrix; in 2D the Kronecker identity λ(A⊗B) = {λ_i(A) λ_j(B)} gives
 //! λ_min = λ_min(A)λ_min(B), λ_max = λ_max(A)λ_max(B) and κ(A⊗B) = κ(A)κ(B),
 //! so no 2D matrix is ever formed.
+//!
+//! Items: [`Spectrum`], [`symmetric_eigenvalues`], [`spectrum_1d`],
+//! [`spectrum_kronecker`].
 
 use crate::error::{Error, Result};
 use crate::mass::Kronecker2d;

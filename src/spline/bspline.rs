@@ -19,6 +19,8 @@
 //! TLS paper §4). The MLS paper's Eq. (3) prints "+"; a finite-difference test
 //! (`derivative_sign_is_minus` in tests/properties_bspline.rs) decides for the
 //! book, and docs/conventions.md records it.
+//!
+//! Items: [`cox_de_boor`], [`cox_de_boor_derivative`], [`SpanScratch`].
 
 use crate::basis::{Basis1d, LocalBasis};
 use crate::error::{Error, Result};

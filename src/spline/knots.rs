@@ -12,6 +12,8 @@
 //!   to the last non-empty span, so partition of unity holds there too;
 //! - no knot may be repeated more than p+1 times (it would create a basis
 //!   function that is identically zero).
+//!
+//! Items: [`KnotVector`].
 
 use crate::error::{finite, finite_named, Error, Result};
 

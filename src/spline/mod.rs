@@ -4,6 +4,8 @@
 //! and in the span-at-once form ([`bspline`]), and the tensor-product 2D basis
 //! ([`tensor`]). Book §4.3, Eqs. (4.19)–(4.23); thesis §6.1–6.2; TLS paper §4;
 //! MLS paper Eqs. (1)–(5).
+//!
+//! Items: [`bspline`], [`knots`], [`tensor`].
 
 pub mod bspline;
 pub mod knots;

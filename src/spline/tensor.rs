@@ -5,6 +5,8 @@
 //!
 //! Global numbering: function (i, j) has index `i + n_x · j` (x runs fastest),
 //! which matches the Kronecker ordering M_2D = M_y ⊗ M_x used in `mass`.
+//!
+//! Items: [`TensorBasis2d`], [`TensorLocalBasis`].
 
 use crate::error::Result;
 use crate::spline::knots::KnotVector;

@@ -6,6 +6,13 @@
 //! - [`bar_errors`]: displacement, velocity and stress errors of the vibrating
 //!   bar for a method at one resolution, with the wall time of the run
 //!   (convergence and work-precision charts).
+//!
+//! Items: [`TRANSITS`], [`ENERGY_BOUND`], [`is_stable`],
+//! [`critical_courant`], [`BarErrors`], [`bar_errors`], [`Variant`],
+//! [`work_precision_variants`], [`WorkPoint`], [`work_precision`],
+//! [`speed_variants`], [`SpeedPoint`], [`speed`], [`SolverPoint`],
+//! [`solver_study`], [`StabilityPoint`], [`stability_map`], [`tls_example`],
+//! [`tls_paper`].
 
 pub mod tls_example;
 pub mod tls_paper;

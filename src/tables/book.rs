@@ -10,6 +10,9 @@
 //!   ‖r_k‖/‖r_0‖ < 1e-8 (recursive residual, assembled sparse 2D matrix).
 //! - `book-4.4`: p-multigrid V-cycles (forward Gauss–Seidel, ν₁ = ν₂ = 8,
 //!   lumped transfer, CG to 1e-4 on p = 1) until ‖f − Ma‖/‖f‖ < 1e-8.
+//!
+//! Items: [`cg_iterations`], [`pmg_cycles`], [`pmg_alternatives`],
+//! [`tables`].
 
 use super::{Computed, TableSpec, Tolerance};
 use crate::error::Result;

@@ -5,6 +5,8 @@
 //! states it. Rows 12–13 and 16–17 quote "maximal strain … m" from the TLS
 //! paper: the unit and the values show they are maximal *displacements*, and
 //! they are computed as such.
+//!
+//! Items: [`table`].
 
 use super::{Computed, TableSpec, Tolerance};
 use crate::error::Result;

@@ -14,6 +14,11 @@
 //! Adding a table is one registration in [`registry`] plus one JSON file.
 //! Published values are only ever read from the JSON; a computation never sees
 //! them.
+//!
+//! Items: [`Source`], [`Published`], [`Tolerance`], [`Status`],
+//! [`RunOptions`], [`Computed`], [`TableSpec`], [`TableReport`],
+//! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
+//! [`compare`], [`book`], [`facts`], [`thesis`], [`tls`].
 
 pub mod book;
 pub mod facts;

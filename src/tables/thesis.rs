@@ -2,6 +2,9 @@
 //!
 //! `thesis-a1`: Appendix A.1–A.2, the assembly of three 2×2 element mass
 //! matrices into a 4×4 global matrix and its row-sum lumping.
+//!
+//! Items: [`appendix_a1`], [`ThesisVariant`], [`THESIS_DT`],
+//! [`THESIS_STEPS`], [`bar_rms_with`], [`bar_rms`], [`tables`].
 
 use super::{Computed, RunOptions, TableSpec, Tolerance};
 use crate::error::Result;

@@ -13,6 +13,8 @@
 //! - `tls-fig6` (Fig. 6): convergence orders of nine method/mapping pairs;
 //! - `tls-fig9` (Fig. 9): stress-error factors against ULFEM;
 //! - `tls-7` and `tls-fig10` (Table 7, Fig. 10): the column compaction.
+//!
+//! Items: [`tables`].
 
 use super::{Computed, TableSpec, Tolerance};
 use crate::error::Result;
