@@ -7,6 +7,16 @@
 //! why hompm keeps this small CSR type; factorisations and eigenvalues are
 //! delegated to faer ([`SparseMatrix::to_faer`], [`SparseMatrix::to_dense`]).
 //!
+//! Measured against faer (`cargo bench --bench sparse`, 2 cores, quadratic
+//! B-splines, 8 particles per cell; issue #14): assembling a projection's
+//! mass matrix through [`BandAssembly`] takes 8.6 µs / 162 µs / 3.0 ms at
+//! 64 / 1024 / 16384 cells, against 52 µs / 948 µs / 33 ms for faer's
+//! `SparseColMat::try_new_from_triplets` on the same entries (6–11× — the
+//! band needs no sort); the product M·x is the same within noise (3.08 µs
+//! against 3.36 µs at 1024 cells). The band assembly is the measured reason
+//! this module stays; its CSR output could become a faer matrix without
+//! loss, which is left for later.
+//!
 //! Items: [`SparseMatrix`], [`BandAssembly`].
 
 use crate::error::{Error, Result};
