@@ -14,7 +14,7 @@
 //! Items: [`cg_iterations`], [`pmg_cycles`], [`pmg_alternatives`],
 //! [`tables`].
 
-use super::{Computed, TableSpec, Tolerance};
+use super::{Computed, TableSpec};
 use crate::error::Result;
 use crate::mass::unit_density_mass_2d;
 use crate::solve::cg::{conjugate_gradient, CgVariant};
@@ -105,7 +105,6 @@ fn table_4_2() -> TableSpec {
                 direction, open uniform knots (C^{p−1}), exact Gauss quadrature (p+1 points), \
                 homogeneous Dirichlet (first and last function per direction removed). \
                 κ = λ_max/λ_min (Eq. 4.56) from faer's 1D eigenvalues and κ(M⊗M) = κ(M)².",
-        tolerance: |_, _| Tolerance::CONDITION_NUMBER,
         compute: |_| {
             let values = grid(5, &[8, 16, 32, 64], |p, n| {
                 Ok(spectrum_kronecker(&unit_density_mass_2d(n, p, true)?)?.condition_number())
@@ -127,7 +126,6 @@ fn table_4_3() -> TableSpec {
                 ‖r_k‖/‖r_0‖ < 1e-8 (Eq. 4.53), on the assembled sparse 2D matrix. Integer \
                 counts must match exactly; the note gives the spread over CG variants that are \
                 equal in exact arithmetic.",
-        tolerance: |_, _| Tolerance::Exact,
         compute: |_| {
             let cols = [16, 32, 64, 128];
             let values = grid(5, &cols, |p, n| {
@@ -166,7 +164,6 @@ fn table_4_4() -> TableSpec {
                 on the same spans with C^{q−1} continuity and rediscretised mass matrices; \
                 forward Gauss–Seidel with ν₁ = ν₂ = 8; lumped transfer M_L⁻¹P, P_ij = ∫φ_i^q φ_j^{q−1}; \
                 CG to 1e-4 on p = 1; stop at ‖f − Ma‖/‖f‖ < 1e-8.",
-        tolerance: |_, _| Tolerance::Exact,
         compute: |options| {
             let cols = [8, 16, 32, 64];
             let values = grid(5, &cols, |p, n| Ok(pmg_cycles(n, p, PMultigridOptions::default())? as f64))?;

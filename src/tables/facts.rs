@@ -8,7 +8,7 @@
 //!
 //! Items: [`table`].
 
-use super::{Computed, TableSpec, Tolerance};
+use super::{Computed, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
@@ -108,15 +108,6 @@ pub fn table() -> TableSpec {
         published_json: include_str!("../../golden/published/thesis-facts.json"),
         setup:
             "Each row computed as its sentence states it; see the notes and docs/reproduction.md.",
-        tolerance: |r, _| match r {
-            0 | 1 => Tolerance::Absolute(5e-5),
-            2..=6 => Tolerance::Relative(0.005),
-            7..=10 => Tolerance::Absolute(0.005),
-            11 | 12 | 16 => Tolerance::Relative(0.02),
-            15 => Tolerance::Exact,
-            13 | 14 => Tolerance::AtLeast,
-            _ => Tolerance::Exact,
-        },
         compute: |o| compute(o.quick),
     }
 }

@@ -1,9 +1,11 @@
 //! # The registry of published tables
 //!
 //! A *published table* is a JSON file in `golden/published/`, transcribed from
-//! a seed with its table and page. A *registered table* pairs it with a
-//! function that computes the same grid from the documented setup, and with the
-//! tolerance of its kind (docs/conventions.md, "Tolerances of the table registry"):
+//! a seed with its table and page, with the tolerance kind of its numbers by
+//! label ([`ToleranceRules`]: a default, then rules by column, row and cell
+//! label; a rule naming an unknown label is an error). A *registered table*
+//! pairs it with a function that computes the same grid from the documented
+//! setup (docs/conventions.md, "Tolerances of the table registry"):
 //!
 //! | kind | rule |
 //! |---|---|
@@ -15,7 +17,8 @@
 //! Published values are only ever read from the JSON; a computation never sees
 //! them.
 //!
-//! Items: [`Source`], [`Published`], [`Tolerance`], [`Status`],
+//! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
+//! [`ToleranceRules`], [`Tolerance`], [`Status`],
 //! [`RunOptions`], [`Computed`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
 //! [`compare`], [`book`], [`facts`], [`thesis`], [`tls`].
@@ -58,6 +61,106 @@ pub struct Published {
     pub values: Vec<Vec<Option<f64>>>,
     /// Unit of the values.
     pub unit: String,
+    /// The tolerance of each number, by label (docs/conventions.md,
+    /// "Tolerances of the table registry").
+    pub tolerance: ToleranceRules,
+}
+
+/// The kinds of tolerance a published number can have, as written in
+/// `golden/published/<id>.json` (`{"kind": "rms"}`, `{"kind": "relative",
+/// "value": 0.005}`, …).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum ToleranceKind {
+    /// Integer counts: equal.
+    Exact,
+    /// Condition numbers: 1 %.
+    ConditionNumber,
+    /// RMS errors: 2 %.
+    Rms,
+    /// Machine-precision conservation.
+    MachinePrecision,
+    /// Convergence orders: ±0.01.
+    Order,
+    /// A ratio of two error measures: 4 %.
+    ErrorRatio,
+    /// An integer order stated in the text against a fitted slope: ±0.2.
+    StatedOrder,
+    /// The text says "more than".
+    AtLeast,
+    /// A documented relative tolerance.
+    Relative {
+        /// The relative tolerance.
+        value: f64,
+    },
+    /// A documented absolute tolerance.
+    Absolute {
+        /// The absolute tolerance.
+        value: f64,
+    },
+}
+
+impl From<ToleranceKind> for Tolerance {
+    fn from(k: ToleranceKind) -> Self {
+        match k {
+            ToleranceKind::Exact => Tolerance::Exact,
+            ToleranceKind::ConditionNumber => Tolerance::CONDITION_NUMBER,
+            ToleranceKind::Rms => Tolerance::RMS,
+            ToleranceKind::MachinePrecision => Tolerance::MachinePrecision,
+            ToleranceKind::Order => Tolerance::ORDER,
+            ToleranceKind::ErrorRatio => Tolerance::ERROR_RATIO,
+            ToleranceKind::StatedOrder => Tolerance::STATED_ORDER,
+            ToleranceKind::AtLeast => Tolerance::AtLeast,
+            ToleranceKind::Relative { value } => Tolerance::Relative(value),
+            ToleranceKind::Absolute { value } => Tolerance::Absolute(value),
+        }
+    }
+}
+
+/// One cell's tolerance kind, named by its row and column labels.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CellTolerance {
+    /// Row label.
+    pub row: String,
+    /// Column label.
+    pub column: String,
+    /// The kind.
+    #[serde(flatten)]
+    pub kind: ToleranceKind,
+}
+
+/// The tolerance rules of a published table, by label: a cell rule wins
+/// over a row rule, a row rule over a column rule, and a column rule over
+/// the default. Every label a rule names must exist in the table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ToleranceRules {
+    /// The kind of every number no other rule names.
+    pub default: ToleranceKind,
+    /// Kinds by row label.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub rows: std::collections::BTreeMap<String, ToleranceKind>,
+    /// Kinds by column label.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub columns: std::collections::BTreeMap<String, ToleranceKind>,
+    /// Kinds of single cells.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cells: Vec<CellTolerance>,
+}
+
+impl ToleranceRules {
+    /// The tolerance of the number at (row, column).
+    pub fn at(&self, row: &str, column: &str) -> Tolerance {
+        let cell = self
+            .cells
+            .iter()
+            .find(|c| c.row == row && c.column == column);
+        let kind = cell
+            .map(|c| &c.kind)
+            .or_else(|| self.rows.get(row))
+            .or_else(|| self.columns.get(column))
+            .unwrap_or(&self.default);
+        (*kind).into()
+    }
 }
 
 impl Published {
@@ -73,6 +176,25 @@ impl Published {
             return Err(Error::Published {
                 id: id.into(),
                 message: "values do not match the row and column labels".into(),
+            });
+        }
+        let t = &p.tolerance;
+        let unknown_row = t
+            .rows
+            .keys()
+            .chain(t.cells.iter().map(|c| &c.row))
+            .find(|l| !p.row_labels.contains(l));
+        let unknown_col = t
+            .columns
+            .keys()
+            .chain(t.cells.iter().map(|c| &c.column))
+            .find(|l| !p.col_labels.contains(l));
+        if let Some(label) = unknown_row.or(unknown_col) {
+            return Err(Error::Published {
+                id: id.into(),
+                message: format!(
+                    "a tolerance rule names '{label}', which is not a row or column label"
+                ),
             });
         }
         Ok(p)
@@ -179,8 +301,6 @@ pub struct TableSpec {
     pub published_json: &'static str,
     /// The setup in one paragraph, as computed here.
     pub setup: &'static str,
-    /// Tolerance kind of entry (row, column).
-    pub tolerance: fn(usize, usize) -> Tolerance,
     /// Computes the table.
     pub compute: fn(&RunOptions) -> Result<Computed>,
 }
@@ -343,13 +463,24 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
             message: format!("the computation returned a grid that is not {rows}×{cols}"),
         });
     }
+    let tolerance: Vec<Vec<Tolerance>> = published
+        .row_labels
+        .iter()
+        .map(|r| {
+            published
+                .col_labels
+                .iter()
+                .map(|c| published.tolerance.at(r, c))
+                .collect()
+        })
+        .collect();
     let mut deviation = vec![vec![None; cols]; rows];
     let mut status = vec![vec![Status::NotComputed; cols]; rows];
     for r in 0..rows {
         for c in 0..cols {
             if let (Some(p), Some(v)) = (published.values[r][c], computed.values[r][c]) {
                 deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
-                status[r][c] = if effective_tolerance((spec.tolerance)(r, c), p).accepts(p, v) {
+                status[r][c] = if effective_tolerance(tolerance[r][c], p).accepts(p, v) {
                     Status::Reproduced
                 } else {
                     Status::Deviates
@@ -370,9 +501,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         computed: computed.values,
         deviation,
         status,
-        tolerance: (0..rows)
-            .map(|r| (0..cols).map(|c| (spec.tolerance)(r, c)).collect())
-            .collect(),
+        tolerance,
         notes: computed.notes,
     })
 }

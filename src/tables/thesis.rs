@@ -6,7 +6,7 @@
 //! Items: [`appendix_a1`], [`ThesisVariant`], [`THESIS_DT`],
 //! [`THESIS_STEPS`], [`bar_rms_with`], [`bar_rms`], [`tables`].
 
-use super::{Computed, RunOptions, TableSpec, Tolerance};
+use super::{Computed, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mass::{assemble, row_sum_lumping};
 use nalgebra::DMatrix;
@@ -20,7 +20,6 @@ pub fn appendix_a1() -> TableSpec {
                 M_2 = [1 2; 2 3], M_3 = [7 3; 5 2] of thesis A.1 (deliberately \
                 non-symmetric), element e on global DOFs (e, e+1), assembled by \
                 M = Σ T_eᵀ M_e T_e and lumped by row sums.",
-        tolerance: |_, _| Tolerance::Exact,
         compute: compute_a1,
     }
 }
@@ -161,114 +160,114 @@ fn order_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
         .collect())
 }
 
-fn rms_table(id: &'static str, json: &'static str, setup: &'static str) -> TableSpec {
+/// A registered thesis table; each names its own computation, so a new id
+/// can never fall into another's.
+fn registered(
+    id: &'static str,
+    json: &'static str,
+    setup: &'static str,
+    compute: fn(&RunOptions) -> Result<Computed>,
+) -> TableSpec {
     TableSpec {
         id,
         published_json: json,
         setup,
-        tolerance: |_, _| Tolerance::RMS,
-        compute: match id {
-            "thesis-5.1" => |_| {
-                Ok(Computed {
-                    values: rms_grid(ThesisVariant::LinearLagrange)?,
-                    notes: vec![],
-                })
-            },
-            "thesis-6.2" => |_| {
-                Ok(Computed {
-                    values: rms_grid(ThesisVariant::BSpline)?,
-                    notes: vec![],
-                })
-            },
-            _ => |o| {
-                let mut notes = Vec::new();
-                if !o.quick {
-                    let direct = bar_rms_with(
-                        ThesisVariant::SplineBased,
-                        64,
-                        4,
-                        Some(MassMatrix::Consistent(ConsistentSolver::Cholesky)),
-                    )?;
-                    let tight = bar_rms_with(
-                        ThesisVariant::SplineBased,
-                        64,
-                        4,
-                        Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
-                            tolerance: 1e-13,
-                        })),
-                    )?;
-                    let loose = bar_rms_with(
-                        ThesisVariant::SplineBased,
-                        64,
-                        4,
-                        Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
-                            tolerance: 1e-6,
-                        })),
-                    )?;
-                    let lumped =
-                        bar_rms_with(ThesisVariant::SplineBased, 64, 4, Some(MassMatrix::Lumped))?;
-                    notes.push(format!(
+        compute,
+    }
+}
+
+fn linear_lagrange_rms(_: &RunOptions) -> Result<Computed> {
+    Ok(Computed {
+        values: rms_grid(ThesisVariant::LinearLagrange)?,
+        notes: vec![],
+    })
+}
+
+fn bspline_rms(_: &RunOptions) -> Result<Computed> {
+    Ok(Computed {
+        values: rms_grid(ThesisVariant::BSpline)?,
+        notes: vec![],
+    })
+}
+
+/// Thesis Table 7.1, with the finest level re-solved four ways in the notes.
+fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
+    let mut notes = Vec::new();
+    if !o.quick {
+        let direct = bar_rms_with(
+            ThesisVariant::SplineBased,
+            64,
+            4,
+            Some(MassMatrix::Consistent(ConsistentSolver::Cholesky)),
+        )?;
+        let tight = bar_rms_with(
+            ThesisVariant::SplineBased,
+            64,
+            4,
+            Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
+                tolerance: 1e-13,
+            })),
+        )?;
+        let loose = bar_rms_with(
+            ThesisVariant::SplineBased,
+            64,
+            4,
+            Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
+                tolerance: 1e-6,
+            })),
+        )?;
+        let lumped = bar_rms_with(ThesisVariant::SplineBased, 64, 4, Some(MassMatrix::Lumped))?;
+        notes.push(format!(
                         "finest level (64 spans, 4 PPC) against the velocity solve: Richardson 1e-9 (table) {:.4e}; \
                          Richardson 1e-13 {tight:.4e}; Cholesky {direct:.4e}; Richardson 1e-6 {loose:.4e}; lumped mass {lumped:.4e}",
                         bar_rms(ThesisVariant::SplineBased, 64, 4)?
                     ));
-                }
-                Ok(Computed {
-                    values: rms_grid(ThesisVariant::SplineBased)?,
-                    notes,
-                })
-            },
-        },
     }
+    Ok(Computed {
+        values: rms_grid(ThesisVariant::SplineBased)?,
+        notes,
+    })
 }
 
-fn order_table(id: &'static str, json: &'static str, setup: &'static str) -> TableSpec {
-    TableSpec {
-        id,
-        published_json: json,
-        setup,
-        tolerance: |_, _| Tolerance::ORDER,
-        compute: match id {
-            "thesis-5.2" => |_| {
-                Ok(Computed {
-                    values: order_grid(ThesisVariant::LinearLagrange)?,
-                    notes: vec![],
-                })
-            },
-            "thesis-6.1" => |_| {
-                Ok(Computed {
-                    values: order_grid(ThesisVariant::BSpline)?,
-                    notes: vec![],
-                })
-            },
-            _ => |_| {
-                Ok(Computed {
-                    values: order_grid(ThesisVariant::SplineBased)?,
-                    notes: vec![],
-                })
-            },
-        },
-    }
+fn linear_lagrange_orders(_: &RunOptions) -> Result<Computed> {
+    Ok(Computed {
+        values: order_grid(ThesisVariant::LinearLagrange)?,
+        notes: vec![],
+    })
+}
+
+fn bspline_orders(_: &RunOptions) -> Result<Computed> {
+    Ok(Computed {
+        values: order_grid(ThesisVariant::BSpline)?,
+        notes: vec![],
+    })
+}
+
+fn spline_based_orders(_: &RunOptions) -> Result<Computed> {
+    Ok(Computed {
+        values: order_grid(ThesisVariant::SplineBased)?,
+        notes: vec![],
+    })
 }
 
 /// Thesis Tables 5.1, 5.2, 6.1, 6.2, 7.1, 7.2.
 pub fn tables() -> Vec<TableSpec> {
     vec![
-        rms_table("thesis-5.1", include_str!("../../golden/published/thesis-5.1.json"),
-            "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), small-strain update, both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic displacement at the initial positions, t = 1999·Δt.",),
-        order_table("thesis-5.2", include_str!("../../golden/published/thesis-5.2.json"),
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-5.1."),
-        order_table("thesis-6.1", include_str!("../../golden/published/thesis-6.1.json"),
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-6.2."),
-        rms_table("thesis-6.2", include_str!("../../golden/published/thesis-6.2.json"),
-            "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup as thesis-5.1.",),
-        rms_table("thesis-7.1", include_str!("../../golden/published/thesis-7.1.json"),
+        registered("thesis-5.1", include_str!("../../golden/published/thesis-5.1.json"),
+            "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), small-strain update, both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic displacement at the initial positions, t = 1999·Δt.", linear_lagrange_rms),
+        registered("thesis-5.2", include_str!("../../golden/published/thesis-5.2.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-5.1.", linear_lagrange_orders),
+        registered("thesis-6.1", include_str!("../../golden/published/thesis-6.1.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-6.2.", bspline_orders),
+        registered("thesis-6.2", include_str!("../../golden/published/thesis-6.2.json"),
+            "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup as thesis-5.1.", bspline_rms),
+        registered("thesis-7.1", include_str!("../../golden/published/thesis-7.1.json"),
             "Spline-based MPM: quadratic B-splines; internal force, density and velocity from not-a-knot \
              cubic splines through the particle values at 2 Gauss points per half knot span (deactivated or \
              redefined outside [x_1 − V_1/2, x_N + V_N/2]); consistent mass from the reconstructed density \
              with the same rule; M^C v = P solved in full by Richardson from P/M^L to ‖P − M^C v‖/‖P‖ ≤ 1e-9, \
-             then boundary velocities zeroed; setup as thesis-5.1.",),
-        order_table("thesis-7.2", include_str!("../../golden/published/thesis-7.2.json"),
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-7.1."),
+             then boundary velocities zeroed; setup as thesis-5.1.", spline_based_rms),
+        registered("thesis-7.2", include_str!("../../golden/published/thesis-7.2.json"),
+            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-7.1.", spline_based_orders),
     ]
 }

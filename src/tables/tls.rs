@@ -16,7 +16,7 @@
 //!
 //! Items: [`tables`].
 
-use super::{Computed, TableSpec, Tolerance};
+use super::{Computed, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
@@ -72,13 +72,6 @@ fn tls_1() -> TableSpec {
                 published layout is unknown). Conservative quadratic TLS with exact element \
                 integrals; not-a-knot cubic spline. RMS over 100 Gauss points per element; \
                 integral error with 2 Gauss points per element.",
-        tolerance: |r, c| {
-            if r == 1 && c == 1 {
-                Tolerance::MachinePrecision
-            } else {
-                Tolerance::RMS
-            }
-        },
         compute: |options| {
             let r = example_reconstructions(EXAMPLE_SEED)?;
             let tls = |x: f64| r.tls.evaluate(x);
@@ -106,13 +99,6 @@ fn book_example() -> TableSpec {
         published_json: include_str!("../../golden/published/book-tls-example.json"),
         setup: "The layout and TLS of tls-1 (seed 1). RMS over 10 Gauss points per element; \
                 relative integral error with 10 and with 2 Gauss points per element.",
-        tolerance: |r, _| {
-            if r == 0 {
-                Tolerance::RMS
-            } else {
-                Tolerance::MachinePrecision
-            }
-        },
         compute: |options| {
             let r = example_reconstructions(EXAMPLE_SEED)?;
             let tls = |x: f64| r.tls.evaluate(x);
@@ -156,7 +142,6 @@ fn tls_3() -> TableSpec {
                 |Σ_ij M_ij − Σ m_p|/Σ m_p; Error_P = max over steps of |1ᵀMv − Σ m_p v_p|/|Σ m_p v_p|, \
                 with v the projected nodal velocity before the boundary velocities are zeroed. TLS: \
                 quadratic, 2 Gauss points per element; cubic spline: not-a-knot, thesis half-span rule.",
-        tolerance: |r, _| if r == 1 { Tolerance::MachinePrecision } else { Tolerance::RMS },
         compute: |_| {
             let rows = conservation_rows(conservation_by_mapping(|m, map| conservation_errors(m, map, 40, 12))?);
             Ok(Computed {
@@ -183,7 +168,6 @@ fn tls_fig6() -> TableSpec {
                 particles (the definition under which MPM shows order 2, as the paper states; the notes \
                 give the particle velocity at t and at t − Δt/2). Reconstructions: consistent mass; \
                 direct mapping: lumped mass. Published values are the integer orders the text states.",
-        tolerance: |_, _| Tolerance::STATED_ORDER,
         compute: |_| {
             let mut values = Vec::new();
             let mut notes = Vec::new();
@@ -223,7 +207,6 @@ fn tls_fig10() -> TableSpec {
         id: "tls-fig10",
         published_json: include_str!("../../golden/published/tls-fig10.json"),
         setup: COMPACTION_SETUP,
-        tolerance: |_, _| Tolerance::RMS,
         compute: |o| {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode(3, 3));
@@ -259,13 +242,6 @@ fn tls_7() -> TableSpec {
         id: "tls-7",
         published_json: include_str!("../../golden/published/tls-7.json"),
         setup: COMPACTION_SETUP,
-        tolerance: |r, _| {
-            if r == 1 {
-                Tolerance::MachinePrecision
-            } else {
-                Tolerance::RMS
-            }
-        },
         compute: |o| {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode(2, 6));
@@ -288,7 +264,6 @@ fn tls_5() -> TableSpec {
         setup: "Vibrating bar with grid crossing, TLS paper Table 4 (H = 1 m, ρ = 2000, E = 4e4 Pa, v0 = 0.8), \
                 large-strain update, 20 elements (knot spans), 8 PPC, Δt = 1e-4 s, 1000 steps (0.1 s); \
                 error measures and mappings as tls-3, consistent mass.",
-        tolerance: |r, _| if r == 1 { Tolerance::MachinePrecision } else { Tolerance::RMS },
         compute: |_| {
             let rows = conservation_rows(conservation_by_mapping(|m, map| {
                 conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000)
@@ -305,7 +280,6 @@ fn book_4_5_large() -> TableSpec {
         setup: "Book §4.5: vibrating bar with the parameters of book Table 4.1 and v0 = 0.8 (E = 7e6 Pa), \
                 large-strain update, 20 knot spans, 8 PPC, Δt = 1e-5 s, 0.1 s (10 000 steps); quadratic \
                 B-splines, TLS mapping of stress, density and momentum, consistent mass (Cholesky).",
-        tolerance: |_, c| if c == 2 { Tolerance::ERROR_RATIO } else { Tolerance::MachinePrecision },
         compute: |o| {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode(1, 3));
@@ -331,7 +305,6 @@ fn tls_fig9() -> TableSpec {
                 0.1 s. Reference: updated-Lagrangian FEM (fem::ulfem) with 1000 elements and Δt = 1e-5 s \
                 (self-converged to 3e-6). E = relative L2 error of the particle stress against the reference at \
                 the particles' initial positions; factor = E_MPM / E_method. Reconstructions with consistent mass.",
-        tolerance: |_, _| Tolerance::ERROR_RATIO,
         compute: |o| {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode(4, 1));
