@@ -14,7 +14,7 @@
 //! Items: [`cg_iterations`], [`pmg_cycles`], [`pmg_alternatives`],
 //! [`tables`].
 
-use super::{Computed, TableSpec};
+use super::{Computed, LabelledRow, TableSpec};
 use crate::error::Result;
 use crate::mass::unit_density_mass_2d;
 use crate::solve::cg::{conjugate_gradient, CgVariant};
@@ -87,13 +87,21 @@ pub fn pmg_alternatives() -> Vec<(&'static str, PMultigridOptions)> {
     ]
 }
 
+/// f(p, 1/h) for p = 1 … `degrees` (rows, labelled "p = …" as the book's
+/// tables) and the given 1/h (columns, in the published order).
 fn grid(
-    rows: usize,
+    degrees: usize,
     cols: &[usize],
     mut f: impl FnMut(usize, usize) -> Result<f64>,
-) -> Result<Vec<Vec<Option<f64>>>> {
-    (1..=rows)
-        .map(|p| cols.iter().map(|&n| f(p, n).map(Some)).collect())
+) -> Result<Vec<LabelledRow>> {
+    (1..=degrees)
+        .map(|p| {
+            let row = cols
+                .iter()
+                .map(|&n| f(p, n).map(Some))
+                .collect::<Result<_>>()?;
+            Ok((format!("p = {p}"), row))
+        })
         .collect()
 }
 
@@ -106,11 +114,11 @@ fn table_4_2() -> TableSpec {
                 homogeneous Dirichlet (first and last function per direction removed). \
                 κ = λ_max/λ_min (Eq. 4.56) from faer's 1D eigenvalues and κ(M⊗M) = κ(M)².",
         compute: |_| {
-            let values = grid(5, &[8, 16, 32, 64], |p, n| {
+            let rows = grid(5, &[8, 16, 32, 64], |p, n| {
                 Ok(spectrum_kronecker(&unit_density_mass_2d(n, p, true)?)?.condition_number())
             })?;
             Ok(Computed {
-                values,
+                rows,
                 notes: vec![],
             })
         },
@@ -128,7 +136,7 @@ fn table_4_3() -> TableSpec {
                 equal in exact arithmetic.",
         compute: |_| {
             let cols = [16, 32, 64, 128];
-            let values = grid(5, &cols, |p, n| {
+            let rows = grid(5, &cols, |p, n| {
                 Ok(cg_iterations(n, p, CgVariant::Recursive, true)? as f64)
             })?;
             let mut notes = Vec::new();
@@ -151,7 +159,7 @@ fn table_4_3() -> TableSpec {
                 }
                 notes.push(format!("CG-variant spread, p = {p}: {}", parts.join(", ")));
             }
-            Ok(Computed { values, notes })
+            Ok(Computed { rows, notes })
         },
     }
 }
@@ -166,7 +174,7 @@ fn table_4_4() -> TableSpec {
                 CG to 1e-4 on p = 1; stop at ‖f − Ma‖/‖f‖ < 1e-8.",
         compute: |options| {
             let cols = [8, 16, 32, 64];
-            let values = grid(5, &cols, |p, n| Ok(pmg_cycles(n, p, PMultigridOptions::default())? as f64))?;
+            let rows = grid(5, &cols, |p, n| Ok(pmg_cycles(n, p, PMultigridOptions::default())? as f64))?;
             let mut notes = Vec::new();
             if !options.quick {
                 for (name, opt) in pmg_alternatives() {
@@ -176,19 +184,19 @@ fn table_4_4() -> TableSpec {
                             Err(_) => f64::NAN,
                         })
                     })?;
-                    let rows: Vec<String> = g
+                    let text: Vec<String> = g
                         .iter()
-                        .map(|r| {
+                        .map(|(_, r)| {
                             r.iter()
                                 .map(|v| v.map_or("-".into(), |v| if v.is_nan() { "n/c".into() } else { format!("{v}") }))
                                 .collect::<Vec<String>>()
                                 .join(" ")
                         })
                         .collect();
-                    notes.push(format!("{name}: {}", rows.join(" | ")));
+                    notes.push(format!("{name}: {}", text.join(" | ")));
                 }
             }
-            Ok(Computed { values, notes })
+            Ok(Computed { rows, notes })
         },
     }
 }

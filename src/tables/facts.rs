@@ -62,31 +62,28 @@ fn compute(quick: bool) -> Result<Computed> {
             Mapping::Direct,
         )?)
     };
-    let values: Vec<Option<f64>> = vec![
-        Some(middle(25.0)?),
-        Some(middle(1.0)?),
-        Some(courant(b1.wave_speed(), 1e-5, b1.length / 32.0)),
-        Some(courant(b2.wave_speed(), 1e-5, b2.length / 32.0)),
-        Some(courant(c3.wave_speed(), 1e-4, c3.height / 49.0)),
-        Some(courant(c3.wave_speed(), 1e-4, c3.height / 79.0)),
-        Some(courant(c4.wave_speed(), 1e-4, c4.height / 64.0)),
-        Some(b1.v0 / b1.wave_speed()),
-        Some(b2.v0 / b2.wave_speed()),
-        Some(c3.density * c3.gravity.abs() * c3.height / c3.young),
-        Some(c4.density * c4.gravity.abs() * c4.height / c4.young),
-        Some(u_small),
-        (!quick).then_some(u_large),
-        (!quick).then_some(x_tls as f64),
-        (!quick).then_some(x_book as f64),
-        (!quick)
-            .then(|| compaction.map(|c| c.crossings as f64))
-            .flatten(),
-        (!quick)
-            .then(|| compaction.map(|c| c.max_displacement))
-            .flatten(),
+    // Each fact under the sentence that states it (golden/published/thesis-facts.json).
+    let facts: Vec<(&str, Option<f64>)> = vec![
+        ("x_p left of the bar's middle, L = 25 m, 32 el × 4 PPC (thesis §5.1.1)", Some(middle(25.0)?)),
+        ("x_p left of the bar's middle, L = 1 m, 32 el × 4 PPC (thesis §5.1.2)", Some(middle(1.0)?)),
+        ("Courant number, bar Table 4.1, 32 elements, Δt = 1e-5 (thesis §5.1.1)", Some(courant(b1.wave_speed(), 1e-5, b1.length / 32.0))),
+        ("Courant number, bar Table 4.2, 32 elements, Δt = 1e-5 (thesis §5.1.2)", Some(courant(b2.wave_speed(), 1e-5, b2.length / 32.0))),
+        ("Courant number, column Table 4.3, 50 DOFs, Δt = 1e-4 (thesis §5.1.3)", Some(courant(c3.wave_speed(), 1e-4, c3.height / 49.0))),
+        ("Courant number, column Table 4.3, 80 DOFs, Δt = 1e-4 (thesis §5.1.3)", Some(courant(c3.wave_speed(), 1e-4, c3.height / 79.0))),
+        ("Courant number, column Table 4.4, 65 DOFs, Δt = 1e-4 (thesis §5.1.4)", Some(courant(c4.wave_speed(), 1e-4, c4.height / 64.0))),
+        ("maximum strain, bar Table 4.1 (thesis §4.1)", Some(b1.v0 / b1.wave_speed())),
+        ("maximum strain, bar Table 4.2 (thesis §4.1)", Some(b2.v0 / b2.wave_speed())),
+        ("maximum strain, column Table 4.3 (thesis §4.2)", Some(c3.density * c3.gravity.abs() * c3.height / c3.young)),
+        ("maximum strain, column Table 4.4 (thesis §4.2)", Some(c4.density * c4.gravity.abs() * c4.height / c4.young)),
+        ("'maximal strain' [m], bar TLS Table 2, 1.9e-6 s (TLS §6.1)", Some(u_small)),
+        ("'maximal strain' [m], bar TLS Table 4, 0.1 s (TLS §6.1)", (!quick).then_some(u_large)),
+        ("grid crossings, MPM, bar TLS Table 4, 20 el × 8 PPC, 0.1 s (TLS §6.1: more than)", (!quick).then_some(x_tls as f64)),
+        ("grid crossings, MPM, bar book Table 4.1 large, 20 el × 8 PPC, 0.1 s (book §4.5: more than)", (!quick).then_some(x_book as f64)),
+        ("grid crossings, MPM, column compaction, 50 el × 20 PPC (TLS §6.2)", (!quick).then(|| compaction.map(|c| c.crossings as f64)).flatten()),
+        ("'maximal strain' [m], column compaction (TLS §6.2)", (!quick).then(|| compaction.map(|c| c.max_displacement)).flatten()),
     ];
     Ok(Computed {
-        values: values.into_iter().map(|v| vec![v]).collect(),
+        rows: facts.into_iter().map(|(label, v)| (label.to_string(), vec![v])).collect(),
         notes: vec![
             "Courant numbers use the element (knot-span) size Δx = L/elements: 50 DOFs = 49 elements, \
              80 DOFs = 79, 65 DOFs = 64 (thesis Fig. 5.1: n_e elements have n_e + 1 nodes)."

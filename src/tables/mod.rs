@@ -19,7 +19,7 @@
 //!
 //! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
 //! [`ToleranceRules`], [`Tolerance`], [`Status`],
-//! [`RunOptions`], [`Computed`], [`TableSpec`], [`TableReport`],
+//! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
 //! [`compare`], [`book`], [`facts`], [`thesis`], [`tls`].
 
@@ -273,23 +273,33 @@ pub struct RunOptions {
     pub quick: bool,
 }
 
-/// What a table computation returns.
+/// One computed row, named by the label of the published row it fills.
+pub type LabelledRow = (String, Vec<Option<f64>>);
+
+/// What a table computation returns: rows by label, in any order. A row
+/// the computation does not return is "not computed"; a label the
+/// published table does not have is an error ([`compare`]).
 #[derive(Debug, Clone, Default)]
 pub struct Computed {
-    /// Same shape as the published values; `None` where not computed.
-    pub values: Vec<Vec<Option<f64>>>,
+    /// The computed rows; `None` where a number is not computed.
+    pub rows: Vec<LabelledRow>,
     /// Free-text findings shown under the table (spreads, alternatives, …).
     pub notes: Vec<String>,
 }
 
 impl Computed {
-    /// A `rows × cols` grid left uncomputed by `--quick` (too costly for a
-    /// smoke test); the report shows it as not computed, never as regressed.
-    pub fn skipped_in_quick_mode(rows: usize, cols: usize) -> Self {
+    /// Nothing computed: the table is too costly for `--quick`; the report
+    /// shows it as not computed, never as regressed.
+    pub fn skipped_in_quick_mode() -> Self {
         Self {
-            values: vec![vec![None; cols]; rows],
+            rows: Vec::new(),
             notes: vec!["not computed with --quick".into()],
         }
+    }
+
+    /// A row of numbers that were all computed.
+    pub fn row(label: impl Into<String>, values: impl IntoIterator<Item = f64>) -> LabelledRow {
+        (label.into(), values.into_iter().map(Some).collect())
     }
 }
 
@@ -453,16 +463,52 @@ pub fn effective_tolerance(kind: Tolerance, published: f64) -> Tolerance {
     }
 }
 
+/// Places computed rows by their labels: an unknown or repeated label, or
+/// a row of the wrong length, is an error; a row not returned stays `None`.
+fn rows_by_label(
+    id: &str,
+    published: &Published,
+    rows: Vec<LabelledRow>,
+) -> Result<Vec<Vec<Option<f64>>>> {
+    let cols = published.col_labels.len();
+    let mut grid: Vec<Option<Vec<Option<f64>>>> = vec![None; published.row_labels.len()];
+    let fail = |message: String| Error::Published {
+        id: id.into(),
+        message,
+    };
+    for (label, values) in rows {
+        let r = published
+            .row_labels
+            .iter()
+            .position(|l| *l == label)
+            .ok_or_else(|| {
+                fail(format!(
+                    "the computation returned row '{label}', which the table does not have"
+                ))
+            })?;
+        if values.len() != cols {
+            return Err(fail(format!(
+                "row '{label}' has {} values for {cols} columns",
+                values.len()
+            )));
+        }
+        if grid[r].replace(values).is_some() {
+            return Err(fail(format!(
+                "the computation returned row '{label}' twice"
+            )));
+        }
+    }
+    Ok(grid
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| vec![None; cols]))
+        .collect())
+}
+
 /// Builds the report from published and computed grids.
 pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> Result<TableReport> {
     let rows = published.row_labels.len();
     let cols = published.col_labels.len();
-    if computed.values.len() != rows || computed.values.iter().any(|r| r.len() != cols) {
-        return Err(Error::Published {
-            id: spec.id.into(),
-            message: format!("the computation returned a grid that is not {rows}×{cols}"),
-        });
-    }
+    let values = rows_by_label(spec.id, published, computed.rows)?;
     let tolerance: Vec<Vec<Tolerance>> = published
         .row_labels
         .iter()
@@ -478,7 +524,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
     let mut status = vec![vec![Status::NotComputed; cols]; rows];
     for r in 0..rows {
         for c in 0..cols {
-            if let (Some(p), Some(v)) = (published.values[r][c], computed.values[r][c]) {
+            if let (Some(p), Some(v)) = (published.values[r][c], values[r][c]) {
                 deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
                 status[r][c] = if effective_tolerance(tolerance[r][c], p).accepts(p, v) {
                     Status::Reproduced
@@ -498,7 +544,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         row_labels: published.row_labels.clone(),
         col_labels: published.col_labels.clone(),
         published: published.values.clone(),
-        computed: computed.values,
+        computed: values,
         deviation,
         status,
         tolerance,

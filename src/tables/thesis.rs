@@ -6,7 +6,7 @@
 //! Items: [`appendix_a1`], [`ThesisVariant`], [`THESIS_DT`],
 //! [`THESIS_STEPS`], [`bar_rms_with`], [`bar_rms`], [`tables`].
 
-use super::{Computed, RunOptions, TableSpec};
+use super::{Computed, LabelledRow, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mass::{assemble, row_sum_lumping};
 use nalgebra::DMatrix;
@@ -32,13 +32,14 @@ fn compute_a1(_: &RunOptions) -> Result<Computed> {
     ];
     let connectivity = vec![vec![0, 1], vec![1, 2], vec![2, 3]];
     let m = assemble(&elements, &connectivity, 4)?;
-    let mut values: Vec<Vec<Option<f64>>> = m
+    let mut rows: Vec<_> = m
         .row_iter()
-        .map(|r| r.iter().map(|v| Some(*v)).collect())
+        .enumerate()
+        .map(|(i, r)| Computed::row(format!("M row {}", i + 1), r.iter().copied()))
         .collect();
-    values.push(row_sum_lumping(&m).into_iter().map(Some).collect());
+    rows.push(Computed::row("lumped diagonal", row_sum_lumping(&m)));
     Ok(Computed {
-        values,
+        rows,
         notes: vec![],
     })
 }
@@ -135,7 +136,16 @@ pub fn bar_rms(variant: ThesisVariant, cells: usize, ppc: usize) -> Result<f64> 
 const LEVELS: [usize; 5] = [4, 8, 16, 32, 64];
 const PPCS: [usize; 3] = [4, 6, 8];
 
-fn rms_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
+/// The row label of a resolution: "16 elements" for Lagrange MPM, "16 knot
+/// spans" for the spline variants (the thesis' own words).
+fn level_label(variant: ThesisVariant, cells: usize) -> String {
+    match variant {
+        ThesisVariant::LinearLagrange => format!("{cells} elements"),
+        _ => format!("{cells} knot spans"),
+    }
+}
+
+fn rms_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
     let jobs: Vec<(usize, usize)> = LEVELS
         .iter()
         .flat_map(|&c| PPCS.iter().map(move |&p| (c, p)))
@@ -144,19 +154,29 @@ fn rms_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
         .par_iter()
         .map(|&(c, p)| bar_rms(variant, c, p))
         .collect::<Result<_>>()?;
-    Ok(values
-        .chunks(3)
-        .map(|r| r.iter().map(|v| Some(*v)).collect())
+    let by_job: std::collections::HashMap<(usize, usize), f64> =
+        jobs.into_iter().zip(values).collect();
+    Ok(LEVELS
+        .iter()
+        .map(|&c| {
+            Computed::row(
+                level_label(variant, c),
+                PPCS.iter().map(|&p| by_job[&(c, p)]),
+            )
+        })
         .collect())
 }
 
-fn order_grid(variant: ThesisVariant) -> Result<Vec<Vec<Option<f64>>>> {
+/// Orders log2(e(h)/e(h/2)) at 4 PPC, each labelled by its finer level.
+fn order_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
     let e: Vec<f64> = LEVELS
         .par_iter()
         .map(|&c| bar_rms(variant, c, 4))
         .collect::<Result<_>>()?;
-    Ok(e.windows(2)
-        .map(|w| vec![Some((w[0] / w[1]).log2())])
+    Ok(LEVELS
+        .windows(2)
+        .zip(e.windows(2))
+        .map(|(l, w)| Computed::row(level_label(variant, l[1]), [(w[0] / w[1]).log2()]))
         .collect())
 }
 
@@ -178,14 +198,14 @@ fn registered(
 
 fn linear_lagrange_rms(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
-        values: rms_grid(ThesisVariant::LinearLagrange)?,
+        rows: rms_grid(ThesisVariant::LinearLagrange)?,
         notes: vec![],
     })
 }
 
 fn bspline_rms(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
-        values: rms_grid(ThesisVariant::BSpline)?,
+        rows: rms_grid(ThesisVariant::BSpline)?,
         notes: vec![],
     })
 }
@@ -224,28 +244,28 @@ fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
                     ));
     }
     Ok(Computed {
-        values: rms_grid(ThesisVariant::SplineBased)?,
+        rows: rms_grid(ThesisVariant::SplineBased)?,
         notes,
     })
 }
 
 fn linear_lagrange_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
-        values: order_grid(ThesisVariant::LinearLagrange)?,
+        rows: order_grid(ThesisVariant::LinearLagrange)?,
         notes: vec![],
     })
 }
 
 fn bspline_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
-        values: order_grid(ThesisVariant::BSpline)?,
+        rows: order_grid(ThesisVariant::BSpline)?,
         notes: vec![],
     })
 }
 
 fn spline_based_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
-        values: order_grid(ThesisVariant::SplineBased)?,
+        rows: order_grid(ThesisVariant::SplineBased)?,
         notes: vec![],
     })
 }

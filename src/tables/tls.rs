@@ -16,7 +16,7 @@
 //!
 //! Items: [`tables`].
 
-use super::{Computed, TableSpec};
+use super::{Computed, LabelledRow, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
@@ -48,16 +48,40 @@ fn spread_notes() -> Result<Vec<String>> {
     ])
 }
 
+/// The TLS paper's name of a method: MPM, DDMPM, BSMPM (quadratic).
+fn paper_name(method: Method) -> String {
+    match method {
+        Method::Mpm => "MPM".into(),
+        Method::Ddmpm => "DDMPM".into(),
+        Method::Bsmpm { degree: 2 } => "BSMPM".into(),
+        other => other.label(),
+    }
+}
+
+/// The TLS paper's row label of a method with a mapping: "DDMPM",
+/// "DDMPM + cubic spline", "DDMPM + TLS" (Figs. 6 and 9).
+fn variant_label(method: Method, mapping: Mapping) -> String {
+    let suffix = match mapping {
+        Mapping::Direct => "",
+        Mapping::CubicSpline => " + cubic spline",
+        Mapping::Tls => " + TLS",
+    };
+    format!("{}{suffix}", paper_name(method))
+}
+
 /// The rows of a conservation table (TLS paper Tables 3, 5, 7): one per
-/// mapping (cubic spline, TLS), with (Error_M, Error_P) per method.
-fn conservation_rows(by_mapping: Vec<(Mapping, ConservationByMethod)>) -> Vec<Vec<Option<f64>>> {
+/// mapping ("Cubic-spline", "TLS"), with (Error_M, Error_P) per method in
+/// the columns' order MPM, DDMPM, BSMPM.
+fn conservation_rows(by_mapping: Vec<(Mapping, ConservationByMethod)>) -> Vec<LabelledRow> {
     by_mapping
         .into_iter()
-        .map(|(_, errors)| {
-            errors
-                .into_iter()
-                .flat_map(|(_, (m, p))| [Some(m), Some(p)])
-                .collect()
+        .map(|(mapping, errors)| {
+            let label = if mapping == Mapping::Tls {
+                "TLS"
+            } else {
+                "Cubic-spline"
+            };
+            Computed::row(label, errors.into_iter().flat_map(|(_, (m, p))| [m, p]))
         })
         .collect()
 }
@@ -76,19 +100,26 @@ fn tls_1() -> TableSpec {
             let r = example_reconstructions(EXAMPLE_SEED)?;
             let tls = |x: f64| r.tls.evaluate(x);
             let cs = |x: f64| r.spline.evaluate(x);
-            let values = vec![
-                vec![Some(rms_error(&cs, 100)?), Some(rms_error(&tls, 100)?)],
-                vec![
-                    Some(relative_integral_error(&cs, 2)?),
-                    Some(relative_integral_error(&tls, 2)?),
-                ],
+            // Columns: cubic splines, TLS.
+            let rows = vec![
+                Computed::row(
+                    "RMS error for function (100 Gauss points per element)",
+                    [rms_error(&cs, 100)?, rms_error(&tls, 100)?],
+                ),
+                Computed::row(
+                    "Relative error for integral (2 Gauss points per element)",
+                    [
+                        relative_integral_error(&cs, 2)?,
+                        relative_integral_error(&tls, 2)?,
+                    ],
+                ),
             ];
             let notes = if options.quick {
                 vec![]
             } else {
                 spread_notes()?
             };
-            Ok(Computed { values, notes })
+            Ok(Computed { rows, notes })
         },
     }
 }
@@ -102,17 +133,26 @@ fn book_example() -> TableSpec {
         compute: |options| {
             let r = example_reconstructions(EXAMPLE_SEED)?;
             let tls = |x: f64| r.tls.evaluate(x);
-            let values = vec![
-                vec![Some(rms_error(&tls, 10)?)],
-                vec![Some(relative_integral_error(&tls, 10)?)],
-                vec![Some(relative_integral_error(&tls, 2)?)],
+            let rows = vec![
+                Computed::row(
+                    "RMS error (10 Gauss points per element)",
+                    [rms_error(&tls, 10)?],
+                ),
+                Computed::row(
+                    "Relative integral error (10 Gauss points per element)",
+                    [relative_integral_error(&tls, 10)?],
+                ),
+                Computed::row(
+                    "Relative integral error (2 Gauss points per element)",
+                    [relative_integral_error(&tls, 2)?],
+                ),
             ];
             let notes = if options.quick {
                 vec![]
             } else {
                 spread_notes()?
             };
-            Ok(Computed { values, notes })
+            Ok(Computed { rows, notes })
         },
     }
 }
@@ -145,7 +185,7 @@ fn tls_3() -> TableSpec {
         compute: |_| {
             let rows = conservation_rows(conservation_by_mapping(|m, map| conservation_errors(m, map, 40, 12))?);
             Ok(Computed {
-                values: rows,
+                rows,
                 notes: vec![
                     "The cubic-spline momentum 'error' equals the midpoint-rule error of the particle sum Σ m_p v_p \
                      against the exact ∫ρv (1.7849e-6 at t = 0): the spline integral is nearly exact, the particle \
@@ -169,17 +209,16 @@ fn tls_fig6() -> TableSpec {
                 give the particle velocity at t and at t − Δt/2). Reconstructions: consistent mass; \
                 direct mapping: lumped mass. Published values are the integer orders the text states.",
         compute: |_| {
-            let mut values = Vec::new();
+            let mut rows = Vec::new();
             let mut notes = Vec::new();
             for (method, mapping) in fig6_variants() {
                 let e = fig6_errors(method, mapping)?;
                 let h: Vec<f64> = e.iter().map(|r| r.h).collect();
                 let order = |f: &dyn Fn(&BarErrors) -> f64| fitted_order(&h, &e.iter().map(f).collect::<Vec<_>>());
-                values.push(vec![
-                    Some(order(&|r| r.displacement)),
-                    Some(order(&|r| r.grid_velocity)),
-                    Some(order(&|r| r.stress)),
-                ]);
+                rows.push(Computed::row(
+                    variant_label(method, mapping),
+                    [order(&|r| r.displacement), order(&|r| r.grid_velocity), order(&|r| r.stress)],
+                ));
                 notes.push(format!(
                     "{} {:?}: particle velocity at t order {:.2}, at t − Δt/2 {:.2}; errors at 40 cells: u {:.3e}, grid v {:.3e}, σ {:.3e}",
                     method.label(),
@@ -191,7 +230,7 @@ fn tls_fig6() -> TableSpec {
                     e[3].stress
                 ));
             }
-            Ok(Computed { values, notes })
+            Ok(Computed { rows, notes })
         },
     }
 }
@@ -209,7 +248,7 @@ fn tls_fig10() -> TableSpec {
         setup: COMPACTION_SETUP,
         compute: |o| {
             if o.quick {
-                return Ok(Computed::skipped_in_quick_mode(3, 3));
+                return Ok(Computed::skipped_in_quick_mode());
             }
             let maps = [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls];
             let jobs: Vec<(Method, Mapping)> = TLS_METHODS
@@ -220,17 +259,20 @@ fn tls_fig10() -> TableSpec {
                 .par_iter()
                 .map(|&(m, map)| compaction(m, map).map(|r| ((m, map), r.stress_error)))
                 .collect::<Result<_>>()?;
-            // Rows: methods; columns: mappings (golden/published/tls-fig10.json).
-            let values = TLS_METHODS
+            // Rows: methods; columns: no reconstruction, cubic spline, TLS.
+            let rows = TLS_METHODS
                 .iter()
                 .map(|&m| {
-                    maps.iter()
-                        .map(|&map| runs.get(&(m, map)).copied())
-                        .collect()
+                    (
+                        paper_name(m),
+                        maps.iter()
+                            .map(|&map| runs.get(&(m, map)).copied())
+                            .collect(),
+                    )
                 })
                 .collect();
             Ok(Computed {
-                values,
+                rows,
                 notes: vec![],
             })
         },
@@ -244,13 +286,13 @@ fn tls_7() -> TableSpec {
         setup: COMPACTION_SETUP,
         compute: |o| {
             if o.quick {
-                return Ok(Computed::skipped_in_quick_mode(2, 6));
+                return Ok(Computed::skipped_in_quick_mode());
             }
-            let values = conservation_rows(conservation_by_mapping(|m, map| {
+            let rows = conservation_rows(conservation_by_mapping(|m, map| {
                 compaction(m, map).map(|r| (r.mass_error, r.momentum_error))
             })?);
             Ok(Computed {
-                values,
+                rows,
                 notes: vec![],
             })
         },
@@ -268,7 +310,7 @@ fn tls_5() -> TableSpec {
             let rows = conservation_rows(conservation_by_mapping(|m, map| {
                 conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000)
             })?);
-            Ok(Computed { values: rows, notes: vec![] })
+            Ok(Computed { rows, notes: vec![] })
         },
     }
 }
@@ -282,7 +324,7 @@ fn book_4_5_large() -> TableSpec {
                 B-splines, TLS mapping of stress, density and momentum, consistent mass (Cholesky).",
         compute: |o| {
             if o.quick {
-                return Ok(Computed::skipped_in_quick_mode(1, 3));
+                return Ok(Computed::skipped_in_quick_mode());
             }
             let (m, p) = conservation_errors_for("book-table-4.1-large", Method::Bsmpm { degree: 2 }, Mapping::Tls, 20, 8, 1e-5, 10_000)?;
             let variants = [(Method::Mpm, Mapping::Direct), (Method::Bsmpm { degree: 2 }, Mapping::Tls)];
@@ -290,7 +332,7 @@ fn book_4_5_large() -> TableSpec {
                 stress_errors_against_ulfem("book-table-4.1-large", 119, 20, 8, 1e-5, 10_000, &variants)?.into_iter().collect();
             let (mpm, tls) = (e[&variants[0]], e[&variants[1]]);
             Ok(Computed {
-                values: vec![vec![Some(m), Some(p), Some(mpm / tls)]],
+                rows: vec![Computed::row("TLS-BSMPM, consistent mass", [m, p, mpm / tls])],
                 notes: vec![format!("relative L2 stress errors against ULFEM with 120 DOFs (the book's reference): MPM {mpm:.4e}, TLS-BSMPM {tls:.4e}")],
             })
         },
@@ -307,7 +349,7 @@ fn tls_fig9() -> TableSpec {
                 the particles' initial positions; factor = E_MPM / E_method. Reconstructions with consistent mass.",
         compute: |o| {
             if o.quick {
-                return Ok(Computed::skipped_in_quick_mode(4, 1));
+                return Ok(Computed::skipped_in_quick_mode());
             }
             let b = Method::Bsmpm { degree: 2 };
             let mpm = (Method::Mpm, Mapping::Direct);
@@ -320,7 +362,7 @@ fn tls_fig9() -> TableSpec {
             let notes: Vec<String> = names.iter().zip(&e).map(|(name, (_, err))| format!("{name} {err:.4e}")).collect();
             let e: HashMap<_, _> = e.into_iter().collect();
             Ok(Computed {
-                values: rows.iter().map(|v| vec![Some(e[&mpm] / e[v])]).collect(),
+                rows: rows.iter().map(|&(m, map)| Computed::row(variant_label(m, map), [e[&mpm] / e[&(m, map)]])).collect(),
                 notes: vec![format!("relative L2 stress errors: {}", notes.join(", "))],
             })
         },
