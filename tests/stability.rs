@@ -1,51 +1,11 @@
 //! Stability where methods fail: every failure the seeds describe is a typed
 //! error or a diagnosed result, never a silent NaN.
 
-use hompm::mpm::diagnostics::rms_error;
 use hompm::mpm::grid::Method;
-use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
-use hompm::scenes::{column, vibrating_bar, Discretisation};
+use hompm::mpm::mapping::{Mapping, MassMatrix};
+
 use hompm::studies::critical_courant;
 use hompm::Error;
-
-fn disc(
-    method: Method,
-    mapping: Mapping,
-    mass: MassMatrix,
-    cells: usize,
-    ppc: usize,
-) -> Discretisation {
-    Discretisation::new(method, mapping, mass, cells, ppc)
-}
-
-fn bar_rms(
-    method: Method,
-    cells: usize,
-    ppc: usize,
-    steps: usize,
-) -> (f64, hompm::mpm::diagnostics::RunDiagnostics) {
-    let p = vibrating_bar::parameters("thesis-table-4.1").unwrap();
-    let mut sim = p
-        .simulation(&disc(
-            method,
-            Mapping::Direct,
-            MassMatrix::Lumped,
-            cells,
-            ppc,
-        ))
-        .unwrap();
-    sim.run(1e-5, steps).unwrap();
-    let exact: Vec<f64> = sim
-        .particles
-        .x0
-        .iter()
-        .map(|&x| p.displacement(x, sim.time))
-        .collect();
-    (
-        rms_error(&sim.particles.u, &exact).unwrap(),
-        sim.diagnostics.clone(),
-    )
-}
 
 /// Thesis §5.2: P2 Lagrange end-node functions are negative inside the
 /// element, so material-point lumped masses can be negative. With one particle
@@ -53,39 +13,32 @@ fn bar_rms(
 /// displacement error at t = 0.5 s is 60× that of two particles per element.
 #[test]
 fn quadratic_lagrange_negative_masses_are_diagnosed() {
-    let (bad, d) = bar_rms(Method::MpmP2, 4, 1, 50_000);
+    let n = hompm::studies::failures::quadratic_lagrange_negative_masses().unwrap();
     assert!(
-        d.min_lumped_mass < 0.0,
+        n.min_lumped_mass < 0.0,
         "min lumped mass {}",
-        d.min_lumped_mass
+        n.min_lumped_mass
     );
     // Every step but the first, where the centred particles give exactly zero vertex masses.
-    assert!(d.negative_mass_steps >= 49_990, "{}", d.negative_mass_steps);
-    let (good, d2) = bar_rms(Method::MpmP2, 4, 2, 50_000);
-    assert_eq!(d2.negative_mass_steps, 0);
-    assert!(bad > 20.0 * good, "1 PPC: {bad}, 2 PPC: {good}");
+    assert!(
+        n.negative_mass_steps >= n.steps - 10,
+        "{}",
+        n.negative_mass_steps
+    );
+    assert_eq!(n.negative_mass_steps_two_ppc, 0);
+    assert!(
+        n.error_one_ppc > 20.0 * n.error_two_ppc,
+        "1 PPC: {}, 2 PPC: {}",
+        n.error_one_ppc,
+        n.error_two_ppc
+    );
     // With the same single particle per element, P1 (positive masses) does better.
-    let (p1, d1) = bar_rms(Method::Mpm, 4, 1, 50_000);
-    assert_eq!(d1.negative_mass_steps, 0);
-    assert!(bad > p1, "P2 {bad} vs P1 {p1}");
-}
-
-fn column_run(method: Method, cells: usize) -> (f64, usize) {
-    let p = column::parameters("thesis-table-4.3").unwrap();
-    let mut sim = p
-        .simulation(&disc(method, Mapping::Direct, MassMatrix::Lumped, cells, 2))
-        .unwrap();
-    sim.run(1e-4, 5000).unwrap();
-    let exact: Vec<f64> = sim
-        .particles
-        .x0
-        .iter()
-        .map(|&y| p.displacement(y, sim.time, 200))
-        .collect();
-    (
-        rms_error(&sim.particles.u, &exact).unwrap(),
-        sim.diagnostics.grid_crossings,
-    )
+    assert!(
+        n.error_one_ppc > n.error_linear_one_ppc,
+        "P2 {} vs P1 {}",
+        n.error_one_ppc,
+        n.error_linear_one_ppc
+    );
 }
 
 /// Thesis §5.1.3: the column under self-weight (Table 4.3, 2 PPC, Δt = 1e-4 s,
@@ -94,75 +47,52 @@ fn column_run(method: Method, cells: usize) -> (f64, usize) {
 /// spans do not suffer (thesis §6.2.3).
 #[test]
 fn linear_mpm_grid_crossing_in_the_column() {
-    let (e50, c50) = column_run(Method::Mpm, 49);
-    let (e80, c80) = column_run(Method::Mpm, 79);
-    let (eb, cb) = column_run(Method::Bsmpm { degree: 2 }, 79);
-    assert_eq!(c50, 0);
-    assert!(c80 > 50, "{c80} crossings");
-    assert!(e80 > 10.0 * e50, "80 DOFs {e80} vs 50 DOFs {e50}");
-    assert_eq!(cb, 0, "quadratic B-splines have no gradient discontinuity");
-    assert!(eb < e80 / 10.0, "B-spline {eb} vs P1 {e80}");
+    let g = hompm::studies::failures::column_grid_crossing().unwrap();
+    let (p50, p80, b80) = (g.linear_50, g.linear_80, g.bspline_80);
+    assert_eq!(p50.crossings, 0);
+    assert!(p80.crossings > 50, "{} crossings", p80.crossings);
+    assert!(
+        p80.error > 10.0 * p50.error,
+        "80 DOFs {} vs 50 DOFs {}",
+        p80.error,
+        p50.error
+    );
+    assert_eq!(
+        b80.crossings, 0,
+        "quadratic B-splines have no gradient discontinuity"
+    );
+    assert!(
+        b80.error < p80.error / 10.0,
+        "B-spline {} vs P1 {}",
+        b80.error,
+        p80.error
+    );
 }
 
 /// Thesis §7.2.4: for the large-deformation column (Table 4.4, 64 spans,
 /// 4 PPC, Δt = 1e-4 s, t = 0.5 s) a consistent mass in the velocity
 /// projection meets near-zero entries at the moving top: with the spline
 /// mapping the nodal velocities become unrealistically high (diagnosed), and
-/// with the direct mapping the run blows up (typed error).
+/// with the direct mapping the run blows up (typed error); the lumped
+/// projection of the thesis' own choice stays bounded.
 #[test]
 fn near_zero_consistent_masses_are_diagnosed() {
-    let p = column::parameters("thesis-table-4.4").unwrap();
-    let consistent = MassMatrix::Consistent(ConsistentSolver::Cholesky);
-    let mut sim = p
-        .simulation(&disc(
-            Method::Bsmpm { degree: 2 },
-            Mapping::CubicSpline,
-            consistent,
-            64,
-            4,
-        ))
-        .unwrap();
-    sim.run(1e-4, 5000).unwrap();
-    let d = &sim.diagnostics;
+    let z = hompm::studies::failures::near_zero_consistent_masses().unwrap();
     assert!(
-        d.min_mass_diagonal_ratio < 1e-10,
+        z.min_mass_diagonal_ratio < 1e-10,
         "ratio {}",
-        d.min_mass_diagonal_ratio
+        z.min_mass_diagonal_ratio
     );
     assert!(
-        d.max_nodal_velocity > 100.0 * d.max_particle_velocity,
+        z.max_nodal_velocity > 100.0 * z.max_particle_velocity,
         "{} vs {}",
-        d.max_nodal_velocity,
-        d.max_particle_velocity
+        z.max_nodal_velocity,
+        z.max_particle_velocity
     );
-    let mut sim = p
-        .simulation(&disc(
-            Method::Bsmpm { degree: 2 },
-            Mapping::Direct,
-            consistent,
-            64,
-            4,
-        ))
-        .unwrap();
-    match sim.run(1e-4, 5000) {
-        Err(Error::NonPhysicalParticle { step, particle, .. }) => {
-            assert!(step > 0 && step <= 5000, "step {step}");
-            assert!(particle < 256, "particle {particle}");
-        }
-        other => panic!("expected a blow-up, got {other:?}"),
-    }
-    // The lumped projection of the thesis' own choice stays bounded.
-    let mut sim = p
-        .simulation(&disc(
-            Method::Bsmpm { degree: 2 },
-            Mapping::Direct,
-            MassMatrix::Lumped,
-            64,
-            4,
-        ))
-        .unwrap();
-    sim.run(1e-4, 5000).unwrap();
-    assert!(sim.diagnostics.max_nodal_velocity < 2.0 * sim.diagnostics.max_particle_velocity);
+    let step = z.direct_blow_up_step.expect("the direct mapping blows up");
+    assert!(step > 0 && step <= 5000, "step {step}");
+    assert!(z.direct_blow_up_particle.is_some_and(|p| p < 256));
+    assert!(z.lumped_velocity_ratio < 2.0, "{}", z.lumped_velocity_ratio);
 }
 
 /// Thesis Eq. (3.5): the CFL estimate C = cΔt/h ≤ 1 is safe for linear MPM

@@ -16,7 +16,7 @@
 //! [`run_tables`], [`Baseline`], [`baseline_of`], [`regressions`],
 //! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
 //! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],
-//! [`speed_chart`], [`solver_charts`], [`stability_chart`], [`build`],
+//! [`speed_chart`], [`solver_charts`], [`stability_chart`], [`FailureCases`], [`build`],
 //! [`charts`].
 
 pub mod charts;
@@ -563,14 +563,61 @@ pub fn solver_charts(
     Ok(())
 }
 
+/// The failure cases of `studies::failures`, which tests/stability.rs
+/// asserts on, for the report.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FailureCases {
+    /// Thesis §5.1.3.
+    pub grid_crossing: crate::studies::failures::GridCrossing,
+    /// Thesis §5.2.
+    pub negative_masses: crate::studies::failures::NegativeMasses,
+    /// Thesis §7.2.4.
+    pub near_zero_masses: crate::studies::failures::NearZeroMasses,
+}
+
+/// The stability chart's footnotes, written from the computed failure cases.
+fn failure_footnotes(f: &FailureCases) -> Vec<String> {
+    let g = &f.grid_crossing;
+    let n = &f.negative_masses;
+    let z = &f.near_zero_masses;
+    let blow_up = z
+        .direct_blow_up_step
+        .map_or("the direct mapping stays bounded".into(), |s| {
+            format!("the direct mapping blows up at step {s}")
+        });
+    vec![
+        format!(
+            "Failure cases (tests/stability.rs): grid crossing — MPM column with 80 DOFs: {} crossings, {:.0}x the error of 50 DOFs (thesis §5.1.3);",
+            g.linear_80.crossings,
+            g.linear_80.error / g.linear_50.error
+        ),
+        format!(
+            "negative masses — MPM-P2 with 1 PPC: negative lumped mass in {} of {} steps, {:.0}x the error of 2 PPC (thesis §5.2);",
+            n.negative_mass_steps,
+            n.steps,
+            n.error_one_ppc / n.error_two_ppc
+        ),
+        format!(
+            "near-zero consistent masses — BSMPM column, Table 4.4: nodal velocity {:.0} m/s against {:.2} m/s at the particles, {blow_up} (thesis §7.2.4);",
+            z.max_nodal_velocity, z.max_particle_velocity
+        ),
+        "singular TLS — a cell with 2 ill-placed points: κ(D) = ∞, repaired by a virtual point (TLS paper §5.3).".into(),
+    ]
+}
+
 /// The stability map: the largest stable Courant number per basis and mass,
-/// with the failure cases of tests/stability.rs as footnotes.
+/// with the failure cases of `studies::failures` as footnotes.
 pub fn stability_chart(
     dir: &Path,
     quick: bool,
     studies: &mut BTreeMap<String, serde_json::Value>,
 ) -> Result<()> {
     let map = crate::studies::stability_map(if quick { 8 } else { 16 })?;
+    let failures = FailureCases {
+        grid_crossing: crate::studies::failures::column_grid_crossing()?,
+        negative_masses: crate::studies::failures::quadratic_lagrange_negative_masses()?,
+        near_zero_masses: crate::studies::failures::near_zero_consistent_masses()?,
+    };
     let lumped: Vec<(f64, f64)> = map
         .iter()
         .enumerate()
@@ -582,30 +629,45 @@ pub fn stability_chart(
         .map(|(k, s)| (k as f64 + 1.0, s.consistent))
         .collect();
     let names: Vec<String> = map.iter().map(|s| s.method.clone()).collect();
-    charts::write(dir, "stability_map", &Chart {
-        title: "Largest stable Courant number cΔt/h of Euler–Cromer MUSL (bar, thesis Table 4.1)".into(),
-        x_label: "basis of the background grid".into(),
-        y_label: "critical Courant number C [-]".into(),
-        log_x: false,
-        log_y: false,
-        series: vec![
-            Series { label: "lumped acceleration".into(), points: lumped, style: Style::Points, color: 0 },
-            Series { label: "consistent acceleration".into(), points: consistent, style: Style::Points, color: 3 },
-        ],
-        hlines: vec![(1.0, "CFL estimate C = 1 (thesis Eq. 3.5)".into())],
-        x_categories: names,
-        x_range: None,
-        y_range: None,
-        footnotes: vec![
-            "Failure cases (tests/stability.rs): grid crossing — MPM column with 80 DOFs: 112 crossings, 39x error (thesis §5.1.3);".into(),
-            "negative masses — MPM-P2 with 1 PPC: negative lumped mass in every step, 60x error (thesis §5.2);".into(),
-            "near-zero consistent masses — BSMPM column, Table 4.4: nodal velocity 3000 m/s, direct mapping blows up (thesis §7.2.4);".into(),
-            "singular TLS — a cell with 2 ill-placed points: κ(D) = ∞, repaired by a virtual point (TLS paper §5.3).".into(),
-        ],
-    })?;
+    charts::write(
+        dir,
+        "stability_map",
+        &Chart {
+            title:
+                "Largest stable Courant number cΔt/h of Euler–Cromer MUSL (bar, thesis Table 4.1)"
+                    .into(),
+            x_label: "basis of the background grid".into(),
+            y_label: "critical Courant number C [-]".into(),
+            log_x: false,
+            log_y: false,
+            series: vec![
+                Series {
+                    label: "lumped acceleration".into(),
+                    points: lumped,
+                    style: Style::Points,
+                    color: 0,
+                },
+                Series {
+                    label: "consistent acceleration".into(),
+                    points: consistent,
+                    style: Style::Points,
+                    color: 3,
+                },
+            ],
+            hlines: vec![(1.0, "CFL estimate C = 1 (thesis Eq. 3.5)".into())],
+            x_categories: names,
+            x_range: None,
+            y_range: None,
+            footnotes: failure_footnotes(&failures),
+        },
+    )?;
     studies.insert(
         "stability".into(),
         serde_json::to_value(&map).unwrap_or_default(),
+    );
+    studies.insert(
+        "failures".into(),
+        serde_json::to_value(failures).unwrap_or_default(),
     );
     Ok(())
 }

@@ -12,8 +12,9 @@
 //! [`work_precision_variants`], [`WorkPoint`], [`work_precision`],
 //! [`speed_variants`], [`SpeedPoint`], [`speed`], [`SolverPoint`],
 //! [`solver_study`], [`StabilityPoint`], [`stability_map`], [`tls_example`],
-//! [`tls_paper`].
+//! [`tls_paper`], [`failures`].
 
+pub mod failures;
 pub mod tls_example;
 pub mod tls_paper;
 
