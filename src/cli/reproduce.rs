@@ -106,43 +106,17 @@ fn run_tables(ids: &[&str], options: RunOptions) -> Result<Vec<tables::TableRepo
     Ok(reports)
 }
 
-/// The studies and their charts, in report order.
+/// The studies (`studies::report`), then their charts (`report`), which
+/// only render.
 fn run_studies(
     out: &Path,
     reports: &[tables::TableReport],
     quick: bool,
 ) -> Result<BTreeMap<String, serde_json::Value>> {
-    let charts = out.join("charts");
-    let mut studies = BTreeMap::new();
-    type Study<'a> = Box<dyn Fn(&mut BTreeMap<String, serde_json::Value>) -> Result<()> + 'a>;
-    let all: [(&str, Study); 5] = [
-        (
-            "convergence",
-            Box::new(|s| report::convergence_charts(&charts, s)),
-        ),
-        (
-            "work-precision",
-            Box::new(|s| report::work_precision_chart(&charts, quick, s)),
-        ),
-        (
-            "solvers",
-            Box::new(|s| report::solver_charts(&charts, reports, quick, s)),
-        ),
-        (
-            "stability",
-            Box::new(|s| report::stability_chart(&charts, quick, s)),
-        ),
-        (
-            "speed",
-            Box::new(|s| report::speed_chart(&charts, quick, s)),
-        ),
-    ];
-    for (name, study) in all {
-        let t = std::time::Instant::now();
-        study(&mut studies)?;
-        eprintln!("study {name} ({:.1} s)", t.elapsed().as_secs_f64());
-    }
-    Ok(studies)
+    let done = |name: &str, seconds: f64| eprintln!("study {name} ({seconds:.1} s)");
+    let studies = crate::studies::report::run_report_studies(quick, &done)?;
+    report::write_charts(&out.join("charts"), reports, &studies)?;
+    report::studies_json(&studies)
 }
 
 /// `hompm reproduce`.

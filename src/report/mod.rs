@@ -16,12 +16,16 @@
 //! [`run_tables`], [`Baseline`], [`baseline_of`], [`regressions`],
 //! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
 //! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],
-//! [`speed_chart`], [`solver_charts`], [`stability_chart`], [`FailureCases`], [`build`],
+//! [`speed_chart`], [`solver_table_charts`], [`solver_time_chart`],
+//! [`stability_chart`], [`write_charts`], [`studies_json`], [`build`],
 //! [`charts`].
 
 pub mod charts;
 
 use crate::error::{Error, Result};
+use crate::studies::failures::FailureCases;
+use crate::studies::report::{ConvergenceLine, ReportStudies};
+use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
 use crate::tables::{self, RunOptions, Status, TableReport};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -271,33 +275,11 @@ pub struct ReproduceOptions {
     pub quick: bool,
 }
 
-/// Convergence charts (one per quantity) from the TLS paper's Fig. 6 study.
-pub fn convergence_charts(
-    dir: &Path,
-    studies: &mut BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
-    use crate::studies::tls_paper::{fig6_errors, fig6_variants, fitted_order};
-    let mut data = Vec::new();
-    for (m, map) in fig6_variants() {
-        let e = fig6_errors(m, map)?;
-        data.push((
-            format!(
-                "{}{}",
-                m.label(),
-                match map {
-                    crate::mpm::mapping::Mapping::Direct => "",
-                    crate::mpm::mapping::Mapping::Tls => " + TLS",
-                    crate::mpm::mapping::Mapping::CubicSpline => " + CS",
-                }
-            ),
-            e,
-        ));
-    }
-    type Quantity = (
-        &'static str,
-        &'static str,
-        fn(&crate::studies::BarErrors) -> f64,
-    );
+/// The convergence charts (TLS paper Fig. 6): RMS error against h for the
+/// nine method/mapping variants, with the fitted order in the legend.
+pub fn convergence_charts(dir: &Path, lines: &[ConvergenceLine]) -> Result<()> {
+    use crate::studies::tls_paper::fitted_order;
+    type Quantity = (&'static str, &'static str, fn(&BarErrors) -> f64);
     let quantities: [Quantity; 3] = [
         ("displacement", "RMS displacement error [m]", |e| {
             e.displacement
@@ -308,14 +290,14 @@ pub fn convergence_charts(
         ("stress", "RMS stress error [Pa]", |e| e.stress),
     ];
     for (name, ylabel, f) in quantities {
-        let series = data
+        let series = lines
             .iter()
             .enumerate()
-            .map(|(k, (label, e))| {
-                let h: Vec<f64> = e.iter().map(|r| r.h).collect();
-                let y: Vec<f64> = e.iter().map(f).collect();
+            .map(|(k, line)| {
+                let h: Vec<f64> = line.errors.iter().map(|r| r.h).collect();
+                let y: Vec<f64> = line.errors.iter().map(f).collect();
                 Series {
-                    label: format!("{label} (order {:.2})", fitted_order(&h, &y)),
+                    label: format!("{} (order {:.2})", line.method, fitted_order(&h, &y)),
                     points: h.into_iter().zip(y).collect(),
                     style: Style::Line,
                     color: k,
@@ -336,11 +318,6 @@ pub fn convergence_charts(
             y_range: None,
         })?;
     }
-    let json: Vec<_> = data
-        .iter()
-        .map(|(l, e)| serde_json::json!({"method": l, "errors": e}))
-        .collect();
-    studies.insert("convergence".into(), serde_json::Value::Array(json));
     Ok(())
 }
 
@@ -370,14 +347,8 @@ fn lines_by_label<T>(
 }
 
 /// The work-precision chart: RMS displacement error against wall time.
-pub fn work_precision_chart(
-    dir: &Path,
-    quick: bool,
-    studies: &mut BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
-    let res: &[usize] = if quick { &[4, 8] } else { &[4, 8, 16, 32, 64] };
-    let points = crate::studies::work_precision(res)?;
-    let series = lines_by_label(&points, |p| p.label, |p| (p.seconds.max(1e-6), p.error));
+pub fn work_precision_chart(dir: &Path, res: &[usize], points: &[WorkPoint]) -> Result<()> {
+    let series = lines_by_label(points, |p| p.label, |p| (p.seconds.max(1e-6), p.error));
     charts::write(dir, "work_precision", &Chart {
         title: "Accuracy against cost: vibrating bar (thesis Table 4.1), 4 PPC, 1999 steps".into(),
         x_label: "wall time of the run [s] (one core)".into(),
@@ -391,28 +362,14 @@ pub fn work_precision_chart(
         y_range: None,
         footnotes: vec![format!("One point per resolution ({} knot spans / elements); lower and further left is better.", res.iter().map(|r| r.to_string()).collect::<Vec<_>>().join(", "))],
     })?;
-    studies.insert(
-        "work_precision".into(),
-        serde_json::to_value(&points).unwrap_or_default(),
-    );
     Ok(())
 }
 
 /// The speed chart: ns per particle-step against the number of particles,
 /// one line per method (log-log); flat lines mean O(particles) steps.
-pub fn speed_chart(
-    dir: &Path,
-    quick: bool,
-    studies: &mut BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
-    let cells: &[usize] = if quick {
-        &[64, 1024]
-    } else {
-        &[64, 256, 1024, 4096, 16384]
-    };
-    let points = crate::studies::speed(cells, if quick { 1 } else { 3 })?;
+pub fn speed_chart(dir: &Path, points: &[SpeedPoint]) -> Result<()> {
     let series = lines_by_label(
-        &points,
+        points,
         |p| p.label,
         |p| (p.particles as f64, p.ns_per_particle_step),
     );
@@ -432,21 +389,11 @@ pub fn speed_chart(
             "Best of repeated runs of about 65 536 particle-steps each; release build. A flat line is a step that costs O(particles).".into(),
         ],
     })?;
-    studies.insert(
-        "speed".into(),
-        serde_json::to_value(&points).unwrap_or_default(),
-    );
     Ok(())
 }
 
-/// Solver charts: published and computed CG iterations and V-cycles (book
-/// Tables 4.3–4.4), and wall time per solve beyond the tables.
-pub fn solver_charts(
-    dir: &Path,
-    reports: &[TableReport],
-    quick: bool,
-    studies: &mut BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
+/// Published and computed CG iterations and V-cycles (book Tables 4.3–4.4).
+pub fn solver_table_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
     for (id, stem, ylabel, cols) in [
         (
             "book-4.3",
@@ -503,27 +450,18 @@ pub fn solver_charts(
             },
         )?;
     }
-    let (degrees, spans): (Vec<usize>, Vec<usize>) = if quick {
-        (vec![1, 2, 3], vec![8, 16])
-    } else {
-        ((1..=8).collect(), vec![16, 32, 64, 128, 256])
-    };
-    let mut points = Vec::new();
-    for &p in &degrees {
-        let sp: Vec<usize> = spans
-            .iter()
-            .copied()
-            .filter(|&n| p <= 5 || n <= 64)
-            .collect();
-        points.extend(crate::studies::solver_study(&[p], &sp, 20_000, 20_000)?);
-    }
+    Ok(())
+}
+
+/// Wall time per solve beyond the tables: CG and p-multigrid against DOFs.
+pub fn solver_time_chart(dir: &Path, degrees: &[usize], points: &[SolverPoint]) -> Result<()> {
     let mut series = Vec::new();
     for (k, &p) in degrees
         .iter()
         .enumerate()
         .filter(|(_, &p)| p == 2 || p == 4 || p >= 6 || degrees.len() <= 3)
     {
-        let pts = |f: fn(&crate::studies::SolverPoint) -> Option<f64>| {
+        let pts = |f: fn(&SolverPoint) -> Option<f64>| {
             points
                 .iter()
                 .filter(|q| q.degree == p)
@@ -556,23 +494,7 @@ pub fn solver_charts(
         y_range: None,
         footnotes: vec!["Lines: CG from zero to 1e-8; crosses: p-multigrid (book setting, including its set-up). Cholesky times are in report.json.".into()],
     })?;
-    studies.insert(
-        "solvers".into(),
-        serde_json::to_value(&points).unwrap_or_default(),
-    );
     Ok(())
-}
-
-/// The failure cases of `studies::failures`, which tests/stability.rs
-/// asserts on, for the report.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct FailureCases {
-    /// Thesis §5.1.3.
-    pub grid_crossing: crate::studies::failures::GridCrossing,
-    /// Thesis §5.2.
-    pub negative_masses: crate::studies::failures::NegativeMasses,
-    /// Thesis §7.2.4.
-    pub near_zero_masses: crate::studies::failures::NearZeroMasses,
 }
 
 /// The stability chart's footnotes, written from the computed failure cases.
@@ -607,17 +529,7 @@ fn failure_footnotes(f: &FailureCases) -> Vec<String> {
 
 /// The stability map: the largest stable Courant number per basis and mass,
 /// with the failure cases of `studies::failures` as footnotes.
-pub fn stability_chart(
-    dir: &Path,
-    quick: bool,
-    studies: &mut BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
-    let map = crate::studies::stability_map(if quick { 8 } else { 16 })?;
-    let failures = FailureCases {
-        grid_crossing: crate::studies::failures::column_grid_crossing()?,
-        negative_masses: crate::studies::failures::quadratic_lagrange_negative_masses()?,
-        near_zero_masses: crate::studies::failures::near_zero_consistent_masses()?,
-    };
+pub fn stability_chart(dir: &Path, map: &[StabilityPoint], failures: &FailureCases) -> Result<()> {
     let lumped: Vec<(f64, f64)> = map
         .iter()
         .enumerate()
@@ -658,18 +570,52 @@ pub fn stability_chart(
             x_categories: names,
             x_range: None,
             y_range: None,
-            footnotes: failure_footnotes(&failures),
+            footnotes: failure_footnotes(failures),
         },
     )?;
-    studies.insert(
-        "stability".into(),
-        serde_json::to_value(&map).unwrap_or_default(),
-    );
-    studies.insert(
-        "failures".into(),
-        serde_json::to_value(failures).unwrap_or_default(),
-    );
     Ok(())
+}
+
+/// Every chart of the report, from the tables and the studies' results.
+pub fn write_charts(dir: &Path, reports: &[TableReport], studies: &ReportStudies) -> Result<()> {
+    convergence_charts(dir, &studies.convergence)?;
+    work_precision_chart(
+        dir,
+        &studies.work_precision_resolutions,
+        &studies.work_precision,
+    )?;
+    solver_table_charts(dir, reports)?;
+    solver_time_chart(dir, &studies.solver_degrees, &studies.solvers)?;
+    stability_chart(dir, &studies.stability, &studies.failures)?;
+    speed_chart(dir, &studies.speed)
+}
+
+/// The studies' results as report.json carries them, by name.
+pub fn studies_json(studies: &ReportStudies) -> Result<BTreeMap<String, serde_json::Value>> {
+    let value = |v: serde_json::Result<serde_json::Value>| v.map_err(|e| Error::Io(e.to_string()));
+    let mut out = BTreeMap::new();
+    out.insert(
+        "convergence".into(),
+        value(serde_json::to_value(&studies.convergence))?,
+    );
+    out.insert(
+        "work_precision".into(),
+        value(serde_json::to_value(&studies.work_precision))?,
+    );
+    out.insert(
+        "solvers".into(),
+        value(serde_json::to_value(&studies.solvers))?,
+    );
+    out.insert(
+        "stability".into(),
+        value(serde_json::to_value(&studies.stability))?,
+    );
+    out.insert(
+        "failures".into(),
+        value(serde_json::to_value(studies.failures))?,
+    );
+    out.insert("speed".into(), value(serde_json::to_value(&studies.speed))?);
+    Ok(out)
 }
 
 /// The full report: tables, studies, charts, markdown and JSON.

@@ -68,35 +68,12 @@ pub fn conjugate_gradient_observed(
     let mut ap = vec![0.0; n];
     let mut rr = dot(&r, &r);
     for k in 1..=max_iter {
-        op.apply(&p, &mut ap);
-        let pap = dot(&p, &ap);
-        if pap.is_nan() || pap <= 0.0 {
-            return Err(Error::Singular(format!(
-                "CG met a direction with pᵀAp = {pap:e} at iteration {k}: the matrix is not SPD, or its condition number exceeds what double precision resolves"
-            )));
-        }
-        let alpha = rr / pap;
+        let alpha = step_length(op, &p, &mut ap, rr, k)?;
         for i in 0..n {
             x[i] += alpha * p[i];
         }
-        let r_old = if variant == CgVariant::PolakRibiere {
-            Some(r.clone())
-        } else {
-            None
-        };
-        match variant {
-            CgVariant::TrueResidual => {
-                op.apply(&x, &mut ap);
-                for i in 0..n {
-                    r[i] = b[i] - ap[i];
-                }
-            }
-            _ => {
-                for i in 0..n {
-                    r[i] -= alpha * ap[i];
-                }
-            }
-        }
+        let r_old = (variant == CgVariant::PolakRibiere).then(|| r.clone());
+        update_residual(variant, op, b, &x, alpha, &mut ap, &mut r);
         observe(k, &x);
         let rr_new = dot(&r, &r);
         let rel = rr_new.sqrt() / r0;
@@ -114,10 +91,7 @@ pub fn conjugate_gradient_observed(
             });
         }
         let beta = match r_old {
-            Some(ro) => {
-                let num: f64 = r.iter().zip(&ro).map(|(a, b)| a * (a - b)).sum();
-                num / rr
-            }
+            Some(ro) => r.iter().zip(&ro).map(|(a, b)| a * (a - b)).sum::<f64>() / rr,
             None => rr_new / rr,
         };
         for i in 0..n {
@@ -129,4 +103,49 @@ pub fn conjugate_gradient_observed(
         "CG reached {max_iter} iterations with relative residual {:e} (tolerance {tol:e})",
         residuals.last().copied().unwrap_or(f64::NAN)
     )))
+}
+
+/// α_k = r_kᵀr_k / p_kᵀAp_k, leaving Ap_k in `ap`; a direction with
+/// pᵀAp ≤ 0 means A is not SPD (or too ill-conditioned to tell).
+fn step_length(
+    op: &dyn LinearOperator,
+    p: &[f64],
+    ap: &mut [f64],
+    rr: f64,
+    k: usize,
+) -> Result<f64> {
+    op.apply(p, ap);
+    let pap = dot(p, ap);
+    if pap.is_nan() || pap <= 0.0 {
+        return Err(Error::Singular(format!(
+            "CG met a direction with pᵀAp = {pap:e} at iteration {k}: the matrix is not SPD, or its condition number exceeds what double precision resolves"
+        )));
+    }
+    Ok(rr / pap)
+}
+
+/// r_{k+1} = r_k − α Ap_k (recursive), or b − A x_{k+1} (true residual; it
+/// overwrites `ap` with A x_{k+1}).
+fn update_residual(
+    variant: CgVariant,
+    op: &dyn LinearOperator,
+    b: &[f64],
+    x: &[f64],
+    alpha: f64,
+    ap: &mut [f64],
+    r: &mut [f64],
+) {
+    match variant {
+        CgVariant::TrueResidual => {
+            op.apply(x, ap);
+            for i in 0..r.len() {
+                r[i] = b[i] - ap[i];
+            }
+        }
+        _ => {
+            for i in 0..r.len() {
+                r[i] -= alpha * ap[i];
+            }
+        }
+    }
 }

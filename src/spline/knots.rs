@@ -41,6 +41,23 @@ impl KnotVector {
     /// overflows) for double precision.
     /// Book §4.3 (Ξ non-decreasing); thesis §6.1 (repeated knots).
     pub fn new(knots: Vec<f64>, degree: usize) -> Result<Self> {
+        Self::check_finite_and_non_decreasing(&knots)?;
+        Self::check_degree_and_multiplicity(&knots, degree)?;
+        Self::check_representable_spans(&knots)?;
+        let n = knots.len() - degree - 1;
+        Self::check_domain(&knots, degree, n)?;
+        let uniform = Self::has_uniform_spans(&knots, degree, n);
+        let spans_per_length = (n - degree) as f64 / (knots[n] - knots[degree]);
+        Ok(Self {
+            knots,
+            degree,
+            uniform,
+            spans_per_length,
+        })
+    }
+
+    /// Ξ is non-empty, finite and non-decreasing (book §4.3).
+    fn check_finite_and_non_decreasing(knots: &[f64]) -> Result<()> {
         if knots.is_empty() {
             return Err(Error::InvalidKnots("the knot vector is empty".into()));
         }
@@ -58,6 +75,12 @@ impl KnotVector {
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// At least p + 2 knots, and no knot repeated more than p + 1 times
+    /// (thesis §6.1).
+    fn check_degree_and_multiplicity(knots: &[f64], degree: usize) -> Result<()> {
         // `degree + 2` written so that no degree overflows it.
         if knots.len() - 1 <= degree {
             return Err(Error::InvalidDegree(format!(
@@ -81,6 +104,12 @@ impl KnotVector {
             }
             run = 1;
         }
+        Ok(())
+    }
+
+    /// Every non-empty span is at least the smallest normal double (so
+    /// 1/span is finite) and every span is finite.
+    fn check_representable_spans(knots: &[f64]) -> Result<()> {
         for i in 1..knots.len() {
             let d = knots[i] - knots[i - 1];
             if !d.is_finite() || (d > 0.0 && d < f64::MIN_POSITIVE) {
@@ -92,7 +121,11 @@ impl KnotVector {
                 )));
             }
         }
-        let n = knots.len() - degree - 1;
+        Ok(())
+    }
+
+    /// The domain [ξ_{p+1}, ξ_{n+1}] has a finite, positive length.
+    fn check_domain(knots: &[f64], degree: usize, n: usize) -> Result<()> {
         if !(knots[n] - knots[degree]).is_finite() {
             return Err(Error::InvalidKnots(format!(
                 "the domain [{:e}, {:e}] is longer than double precision can represent",
@@ -105,14 +138,7 @@ impl KnotVector {
                 knots[degree], knots[n]
             )));
         }
-        let uniform = Self::has_uniform_spans(&knots, degree, n);
-        let spans_per_length = (n - degree) as f64 / (knots[n] - knots[degree]);
-        Ok(Self {
-            knots,
-            degree,
-            uniform,
-            spans_per_length,
-        })
+        Ok(())
     }
 
     /// Spans ξ_i < ξ_{i+1}, p ≤ i < n, all non-empty and of equal length to 1e-9.

@@ -15,7 +15,8 @@
 //!
 //! Items: [`ColumnRun`], [`GridCrossing`], [`column_grid_crossing`],
 //! [`NegativeMasses`], [`quadratic_lagrange_negative_masses`],
-//! [`NearZeroMasses`], [`near_zero_consistent_masses`].
+//! [`NearZeroMasses`], [`near_zero_consistent_masses`], [`FailureCases`],
+//! [`failure_cases`].
 
 use crate::error::{Error, Result};
 use crate::mpm::diagnostics::rms_error;
@@ -182,5 +183,25 @@ pub fn near_zero_consistent_masses() -> Result<NearZeroMasses> {
         direct_blow_up_step: step,
         direct_blow_up_particle: particle,
         lumped_velocity_ratio: l.max_nodal_velocity / l.max_particle_velocity,
+    })
+}
+
+/// All three failure cases.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FailureCases {
+    /// Thesis §5.1.3.
+    pub grid_crossing: GridCrossing,
+    /// Thesis §5.2.
+    pub negative_masses: NegativeMasses,
+    /// Thesis §7.2.4.
+    pub near_zero_masses: NearZeroMasses,
+}
+
+/// Runs all three failure cases.
+pub fn failure_cases() -> Result<FailureCases> {
+    Ok(FailureCases {
+        grid_crossing: column_grid_crossing()?,
+        negative_masses: quadratic_lagrange_negative_masses()?,
+        near_zero_masses: near_zero_consistent_masses()?,
     })
 }

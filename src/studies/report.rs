@@ -1,0 +1,126 @@
+//! # The studies of `hompm reproduce`, run once
+//!
+//! Everything the report charts beyond the tables is computed here and
+//! handed to `report` as data: the convergence of the nine Fig. 6 variants
+//! (TLS paper), work against precision, the cost per particle-step, solver
+//! time beyond book Tables 4.3–4.4, the stability map and the failure cases.
+//! `report` renders these results and computes nothing itself.
+//!
+//! Items: [`ConvergenceLine`], [`ReportStudies`], [`run_report_studies`].
+
+use super::failures::{self, FailureCases};
+use super::tls_paper::{fig6_errors, fig6_variants};
+use super::{
+    solver_study, speed, stability_map, work_precision, BarErrors, SolverPoint, SpeedPoint,
+    StabilityPoint, WorkPoint,
+};
+use crate::error::Result;
+use crate::mpm::mapping::Mapping;
+use serde::Serialize;
+
+/// One Fig. 6 variant's errors at 5, 10, 20 and 40 cells.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConvergenceLine {
+    /// "MPM", "DDMPM + TLS", "BSMPM-p2 + CS", …
+    pub method: String,
+    /// The errors per resolution.
+    pub errors: Vec<BarErrors>,
+}
+
+/// Every study of the report, with the sizes it was run at.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReportStudies {
+    /// TLS paper Fig. 6 variants.
+    pub convergence: Vec<ConvergenceLine>,
+    /// Resolutions of the work-precision study.
+    pub work_precision_resolutions: Vec<usize>,
+    /// Error against wall time.
+    pub work_precision: Vec<WorkPoint>,
+    /// ns per particle-step.
+    pub speed: Vec<SpeedPoint>,
+    /// CG and p-multigrid wall times.
+    pub solvers: Vec<SolverPoint>,
+    /// Degrees of the solver study.
+    pub solver_degrees: Vec<usize>,
+    /// Critical Courant numbers.
+    pub stability: Vec<StabilityPoint>,
+    /// The failure cases of tests/stability.rs.
+    pub failures: FailureCases,
+}
+
+fn convergence() -> Result<Vec<ConvergenceLine>> {
+    fig6_variants()
+        .into_iter()
+        .map(|(m, map)| {
+            let suffix = match map {
+                Mapping::Direct => "",
+                Mapping::Tls => " + TLS",
+                Mapping::CubicSpline => " + CS",
+            };
+            Ok(ConvergenceLine {
+                method: format!("{}{suffix}", m.label()),
+                errors: fig6_errors(m, map)?,
+            })
+        })
+        .collect()
+}
+
+fn solvers(quick: bool) -> Result<(Vec<usize>, Vec<SolverPoint>)> {
+    let (degrees, spans): (Vec<usize>, Vec<usize>) = if quick {
+        (vec![1, 2, 3], vec![8, 16])
+    } else {
+        ((1..=8).collect(), vec![16, 32, 64, 128, 256])
+    };
+    let mut points = Vec::new();
+    for &p in &degrees {
+        let sp: Vec<usize> = spans
+            .iter()
+            .copied()
+            .filter(|&n| p <= 5 || n <= 64)
+            .collect();
+        points.extend(solver_study(&[p], &sp, 20_000, 20_000)?);
+    }
+    Ok((degrees, points))
+}
+
+/// Runs every study (reduced sizes with `quick`), calling `done(name,
+/// seconds)` after each.
+pub fn run_report_studies(quick: bool, done: &dyn Fn(&str, f64)) -> Result<ReportStudies> {
+    let timed = |name: &str, t: std::time::Instant| done(name, t.elapsed().as_secs_f64());
+    let t = std::time::Instant::now();
+    let convergence = convergence()?;
+    timed("convergence", t);
+    let t = std::time::Instant::now();
+    let work_precision_resolutions: Vec<usize> = if quick {
+        vec![4, 8]
+    } else {
+        vec![4, 8, 16, 32, 64]
+    };
+    let work_precision = work_precision(&work_precision_resolutions)?;
+    timed("work-precision", t);
+    let t = std::time::Instant::now();
+    let (solver_degrees, solvers) = solvers(quick)?;
+    timed("solvers", t);
+    let t = std::time::Instant::now();
+    let stability = stability_map(if quick { 8 } else { 16 })?;
+    let failures = failures::failure_cases()?;
+    timed("stability", t);
+    let t = std::time::Instant::now();
+    let cells: &[usize] = if quick {
+        &[64, 1024]
+    } else {
+        &[64, 256, 1024, 4096, 16384]
+    };
+    let speed = speed(cells, if quick { 1 } else { 3 })?;
+    timed("speed", t);
+    Ok(ReportStudies {
+        convergence,
+        work_precision_resolutions,
+        work_precision,
+        speed,
+        solvers,
+        solver_degrees,
+        stability,
+        failures,
+    })
+}
