@@ -526,7 +526,8 @@ fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: 
 /// M_ij = ∫ ρ φ_i φ_j of the projection by the mapping's quadrature:
 /// the particles for the direct mapping (book Eq. 4.10), conservative TLS
 /// of ρ and ρv at the cells' Gauss points (Eqs. 4.39–4.44), or cubic
-/// splines of ρ and v at the half-span points (thesis §7.2).
+/// splines of ρ and v at the half-span points (thesis §7.2). Its length is
+/// the workspace's field list: the three mappings are their own functions.
 pub fn assemble_projection(
     grid: &Grid,
     particles: &Particles,
@@ -575,68 +576,125 @@ pub fn assemble_projection(
                 accumulate_particles::<W>(&mut acc, stencils, particles)
             );
         }
-        Mapping::Tls => {
-            // The cell mass Σ m_p and momentum Σ m_p v_p are the integrals
-            // that conservative TLS prescribes.
-            cell_mass.fill(0.0);
-            cell_momentum.fill(0.0);
-            for e in 0..cells.len() {
-                for &k in bins.points_of(e) {
-                    cell_mass[e] += particles.mass[k];
-                    cell_momentum[e] += particles.mass[k] * particles.v[k];
-                }
-            }
-            product.clear();
-            product.extend(
-                particles
-                    .density
-                    .iter()
-                    .zip(&particles.v)
-                    .map(|(r, v)| r * v),
-            );
-            let density = &particles.density;
-            let rho = particle_tls(
-                cells,
-                bins,
-                particles,
-                density,
-                Some(cell_mass),
-                tls_scratch,
-            )?;
-            let mom = particle_tls(
-                cells,
-                bins,
-                particles,
+        Mapping::Tls => accumulate_tls(
+            &mut acc,
+            particles,
+            cells,
+            bins,
+            TlsBuffers {
+                scratch: tls_scratch,
+                quadrature: tls_quadrature,
                 product,
-                Some(cell_momentum),
-                tls_scratch,
-            )?;
-            let q = &*tls_quadrature;
-            for k in 0..q.points.len() {
-                let (x, w, e) = (q.points[k].x, q.points[k].weight, q.cell[k]);
-                acc.add(
-                    &q.stencils,
-                    k,
-                    w * cell_value(&rho, e, x),
-                    w * cell_value(&mom, e, x),
-                );
-            }
-        }
-        Mapping::CubicSpline => {
-            let [spare_rho, spare_vel] = spare_splines;
-            let rho = particle_spline(order, sorted, spare_rho, particles, &particles.density)?;
-            let vel = particle_spline(order, sorted, spare_vel, particles, &particles.v)?;
-            let q = &*spline_quadrature;
-            let (mut cursor_rho, mut cursor_vel) = (0, 0);
-            for k in 0..q.points.len() {
-                let (x, w) = (q.points[k].x, q.points[k].weight);
-                let r = rho.evaluate_from(x, &mut cursor_rho);
-                let v = vel.evaluate_from(x, &mut cursor_vel);
-                acc.add(&q.stencils, k, w * r, w * r * v);
-            }
-            (*spare_rho, *spare_vel) = (Some(rho), Some(vel));
+                cell_mass,
+                cell_momentum,
+            },
+        )?,
+        Mapping::CubicSpline => accumulate_spline(
+            &mut acc,
+            particles,
+            order,
+            sorted,
+            spare_splines,
+            spline_quadrature,
+        )?,
+    }
+    Ok(())
+}
+
+/// The buffers of the TLS mapping, borrowed from [`MappingWorkspace`].
+struct TlsBuffers<'a> {
+    scratch: &'a mut TlsScratch,
+    quadrature: &'a QuadratureStencils,
+    product: &'a mut Vec<f64>,
+    cell_mass: &'a mut [f64],
+    cell_momentum: &'a mut [f64],
+}
+
+/// TLS mapping (book §4.4.3, TLS paper §5.4): conservative TLS fits of ρ
+/// and ρv per cell, whose prescribed integrals are the cell mass Σ m_p and
+/// momentum Σ m_p v_p, integrated at the Gauss points of every cell.
+fn accumulate_tls(
+    acc: &mut Accumulator,
+    particles: &Particles,
+    cells: &[(f64, f64)],
+    bins: &CellBins,
+    b: TlsBuffers,
+) -> Result<()> {
+    let TlsBuffers {
+        scratch: tls_scratch,
+        quadrature,
+        product,
+        cell_mass,
+        cell_momentum,
+    } = b;
+    cell_mass.fill(0.0);
+    cell_momentum.fill(0.0);
+    for e in 0..cells.len() {
+        for &k in bins.points_of(e) {
+            cell_mass[e] += particles.mass[k];
+            cell_momentum[e] += particles.mass[k] * particles.v[k];
         }
     }
+    product.clear();
+    product.extend(
+        particles
+            .density
+            .iter()
+            .zip(&particles.v)
+            .map(|(r, v)| r * v),
+    );
+    let density = &particles.density;
+    let rho = particle_tls(
+        cells,
+        bins,
+        particles,
+        density,
+        Some(cell_mass),
+        tls_scratch,
+    )?;
+    let mom = particle_tls(
+        cells,
+        bins,
+        particles,
+        product,
+        Some(cell_momentum),
+        tls_scratch,
+    )?;
+    let q = quadrature;
+    for k in 0..q.points.len() {
+        let (x, w, e) = (q.points[k].x, q.points[k].weight, q.cell[k]);
+        acc.add(
+            &q.stencils,
+            k,
+            w * cell_value(&rho, e, x),
+            w * cell_value(&mom, e, x),
+        );
+    }
+    Ok(())
+}
+
+/// Cubic-spline mapping (thesis §7.1–7.2): not-a-knot splines through the
+/// particle density and velocity, integrated at the half-span Gauss points.
+fn accumulate_spline(
+    acc: &mut Accumulator,
+    particles: &Particles,
+    order: &mut Vec<usize>,
+    sorted: &mut (Vec<f64>, Vec<f64>),
+    spare_splines: &mut [Option<CubicSpline>; 2],
+    quadrature: &QuadratureStencils,
+) -> Result<()> {
+    let [spare_rho, spare_vel] = spare_splines;
+    let rho = particle_spline(order, sorted, spare_rho, particles, &particles.density)?;
+    let vel = particle_spline(order, sorted, spare_vel, particles, &particles.v)?;
+    let q = quadrature;
+    let (mut cursor_rho, mut cursor_vel) = (0, 0);
+    for k in 0..q.points.len() {
+        let (x, w) = (q.points[k].x, q.points[k].weight);
+        let r = rho.evaluate_from(x, &mut cursor_rho);
+        let v = vel.evaluate_from(x, &mut cursor_vel);
+        acc.add(&q.stencils, k, w * r, w * r * v);
+    }
+    (*spare_rho, *spare_vel) = (Some(rho), Some(vel));
     Ok(())
 }
 

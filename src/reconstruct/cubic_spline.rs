@@ -82,30 +82,7 @@ impl CubicSpline {
         self.x.clear();
         self.y.clear();
         self.second.clear();
-        if x.len() != y.len() {
-            return Err(Error::InvalidArgument(format!(
-                "{} abscissae but {} values",
-                x.len(),
-                y.len()
-            )));
-        }
-        if x.len() < 2 {
-            return Err(Error::InvalidArgument(
-                "a cubic spline needs at least two points".into(),
-            ));
-        }
-        for (k, (&a, &b)) in x.iter().zip(y).enumerate() {
-            finite_named(a, || format!("abscissa {k}"))?;
-            finite_named(b, || format!("value {k}"))?;
-        }
-        if let Some(k) = (1..x.len()).find(|&k| x[k] <= x[k - 1]) {
-            return Err(Error::InvalidArgument(format!(
-                "abscissae must be strictly increasing: x[{}] = {} ≥ x[{k}] = {}",
-                k - 1,
-                x[k - 1],
-                x[k]
-            )));
-        }
+        check_data(x, y)?;
         let m = x.len();
         let w = &mut self.work;
         w.h.clear();
@@ -254,4 +231,34 @@ impl Work {
         }
         Ok(())
     }
+}
+
+/// Data a cubic spline can interpolate: equal lengths, at least two finite
+/// points, strictly increasing abscissae.
+fn check_data(x: &[f64], y: &[f64]) -> Result<()> {
+    if x.len() != y.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} abscissae but {} values",
+            x.len(),
+            y.len()
+        )));
+    }
+    if x.len() < 2 {
+        return Err(Error::InvalidArgument(
+            "a cubic spline needs at least two points".into(),
+        ));
+    }
+    for (k, (&a, &b)) in x.iter().zip(y).enumerate() {
+        finite_named(a, || format!("abscissa {k}"))?;
+        finite_named(b, || format!("value {k}"))?;
+    }
+    if let Some(k) = (1..x.len()).find(|&k| x[k] <= x[k - 1]) {
+        return Err(Error::InvalidArgument(format!(
+            "abscissae must be strictly increasing: x[{}] = {} ≥ x[{k}] = {}",
+            k - 1,
+            x[k - 1],
+            x[k]
+        )));
+    }
+    Ok(())
 }

@@ -486,6 +486,9 @@ pub struct TlsScratch {
 /// [`reconstruct`] on data already grouped by cell ([`CellBins`]): the MPM
 /// step bins its particles once and calls this, so a reconstruction costs
 /// O(points + cells). Same fits, same degenerate-cell repair, same order.
+/// It stays one piece (about 70 lines) because the two passes share the
+/// fits of the first: degenerate cells are repaired only after every
+/// regular cell is fitted, so their neighbours' fits exist.
 pub fn reconstruct_binned(
     cells: &[(f64, f64)],
     bins: &CellBins,
@@ -535,32 +538,14 @@ pub fn reconstruct_binned(
     for (e, err) in degenerate {
         let (a, b) = cells[e];
         match options.degenerate {
-            DegenerateCells::Error => {
-                let detail = match err {
-                    Error::Singular(m) => m,
-                    other => other.to_string(),
-                };
-                return Err(Error::SingularCell {
-                    cell: e,
-                    a,
-                    b,
-                    detail,
-                });
-            }
+            DegenerateCells::Error => return Err(singular_cell(e, a, b, err)),
             DegenerateCells::ReduceBasis | DegenerateCells::VirtualPoints => {
                 gather(e, px, pv);
-                let mut added = 0;
-                if options.degenerate == DegenerateCells::VirtualPoints {
-                    for (nb, at) in [(e.checked_sub(1), a), (Some(e + 1).filter(|&k| k < n), b)] {
-                        if let Some(Some(fitted)) = nb.map(|k| &out[k]) {
-                            if !px.contains(&at) {
-                                px.push(at);
-                                pv.push(fitted.evaluate(at));
-                                added += 1;
-                            }
-                        }
-                    }
-                }
+                let added = if options.degenerate == DegenerateCells::VirtualPoints {
+                    add_virtual_points(e, (a, b), &out, px, pv)
+                } else {
+                    0
+                };
                 let mut order = options.order;
                 let fitted = loop {
                     match attempt(e, order, px, pv) {
@@ -581,4 +566,38 @@ pub fn reconstruct_binned(
         _ => (0.0, 0.0),
     };
     Ok(TlsReconstruction { cells: out, domain })
+}
+
+/// The typed error of a degenerate cell (TLS paper §5.3) when degenerate
+/// cells are errors.
+fn singular_cell(cell: usize, a: f64, b: f64, err: Error) -> Error {
+    let detail = match err {
+        Error::Singular(m) => m,
+        other => other.to_string(),
+    };
+    Error::SingularCell { cell, a, b, detail }
+}
+
+/// TLS paper §5.3's repair of a degenerate cell: each fitted neighbour adds
+/// a virtual point at the shared cell end, valued by its own fit (unless a
+/// data point already sits there). Returns how many were added.
+fn add_virtual_points(
+    e: usize,
+    (a, b): (f64, f64),
+    fitted: &[Option<CellFit>],
+    px: &mut Vec<f64>,
+    pv: &mut Vec<f64>,
+) -> usize {
+    let n = fitted.len();
+    let mut added = 0;
+    for (neighbour, at) in [(e.checked_sub(1), a), (Some(e + 1).filter(|&k| k < n), b)] {
+        if let Some(Some(fit)) = neighbour.map(|k| &fitted[k]) {
+            if !px.contains(&at) {
+                px.push(at);
+                pv.push(fit.evaluate(at));
+                added += 1;
+            }
+        }
+    }
+    added
 }

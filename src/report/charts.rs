@@ -134,6 +134,11 @@ fn map_err<E: std::fmt::Debug>(e: E) -> Error {
     Error::Io(format!("chart: {e:?}"))
 }
 
+/// Draws one chart. It stays one piece on purpose: plotters gives each of
+/// the four axis combinations (linear or log in x and y) its own coordinate
+/// type, so the series-drawing body is a macro expanded once per
+/// combination; split into functions, every piece would need plotters'
+/// ranged-coordinate bounds in its signature.
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> Result<()>
 where
     DB::ErrorType: 'static,
