@@ -85,8 +85,10 @@ pub fn consistent_mass(
 ) -> Result<SparseMatrix> {
     let n = basis.num_basis();
     let rule = GaussLegendre::new(points_per_cell)?;
-    let mut t = Vec::new();
-    for (a, b) in basis.cells() {
+    let width = basis.degree() + 1;
+    let cells = basis.cells();
+    let mut t = Vec::with_capacity(cells.len() * points_per_cell * width * width);
+    for (a, b) in cells {
         for q in rule.on_interval(a, b) {
             let rho = finite("density", density(q.x))?;
             let loc = basis.local(q.x, 0)?;

@@ -114,13 +114,21 @@ fn diverged_runs_are_errors_naming_step_particle_and_cause() {
     }
     // Δt far above the critical step: the cause is named, not an infinite
     // right-hand side.
-    match refused("run vibrating-bar --dt 1e308") {
+    match refused("run vibrating-bar --dt 1e308 --steps 1") {
         Error::Diverged { step, cause, .. } => {
             assert_eq!(step, 1);
             assert!(cause.contains("critical step"), "{cause}");
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// t = n·Δt must exist: a run whose end time overflows is refused before
+/// it starts, instead of reporting "t = inf" and RMS errors of null.
+#[test]
+fn a_run_whose_time_overflows_is_refused() {
+    let e = refused("run vibrating-bar --cells 1 --dt 1e308");
+    assert!(e.to_string().contains("overflows the time"), "{e}");
 }
 
 #[test]

@@ -116,8 +116,9 @@ fn check_limits(a: &MassArgs, limits: &Limits) -> Result<()> {
         }
     };
     // `mass::consistent_mass` collects (p + 1)² triplets of 24 bytes per
-    // Gauss point, p + 1 points per span, before it sums them.
-    let triplets = a.spans as f64 * (p + 1.0).powi(3) * 24.0;
+    // Gauss point, p + 1 points per span, and `SparseMatrix::from_triplets`
+    // copies them once before summing: twice that at the peak.
+    let triplets = 2.0 * a.spans as f64 * (p + 1.0).powi(3) * 24.0;
     limits.check_memory(
         what("the mass matrix"),
         triplets + nnz * 40.0,

@@ -101,6 +101,12 @@ fn validate(a: &RunArgs) -> Result<()> {
             a.dt
         )));
     }
+    if !(a.dt * a.steps as f64).is_finite() {
+        return Err(Error::InvalidArgument(format!(
+            "--dt {:e} × --steps {} overflows the time t = n·Δt in double precision",
+            a.dt, a.steps
+        )));
+    }
     a.method.method(a.degree)?;
     Ok(())
 }

@@ -52,6 +52,10 @@ fn check(a: &[f64], b: &[f64]) -> Result<()> {
             b.len()
         )));
     }
+    for (k, (&x, &y)) in a.iter().zip(b).enumerate() {
+        crate::error::finite_named(x, || format!("computed value {k}"))?;
+        crate::error::finite_named(y, || format!("reference value {k}"))?;
+    }
     Ok(())
 }
 
