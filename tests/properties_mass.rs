@@ -100,6 +100,12 @@ proptest! {
         for (p, q) in y1.iter().zip(&y2) {
             prop_assert!((p - q).abs() < 1e-12);
         }
+        // The solvers see the same product through their operator interface.
+        if ma * mb == na * nb {
+            let mut y3 = vec![0.0; ma * mb];
+            hompm::solve::LinearOperator::apply(&k, x, &mut y3);
+            prop_assert_eq!(&y3, &y1);
+        }
     }
 
     /// Book Eq. (4.57): after k CG iterations the error in the energy norm is at

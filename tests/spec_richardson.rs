@@ -72,3 +72,23 @@ fn too_few_iterations_are_an_error_not_a_result() {
         Err(hompm::Error::NotConverged(_))
     ));
 }
+
+/// A relative tolerance must be finite and at least ε: a smaller one cannot
+/// be reached in double precision, an infinite one stops nothing. Every
+/// solver refuses both (solve::check_rhs, docs/conventions.md).
+#[test]
+fn tolerances_outside_epsilon_to_finite_are_refused() {
+    use hompm::solve::cg::{conjugate_gradient, CgVariant};
+    let (mc, ml, p) = system();
+    for tol in [f64::INFINITY, f64::NAN, 1e-17, 0.0, -1.0] {
+        assert!(
+            richardson(&mc, &ml, &p, tol, 100).is_err(),
+            "Richardson accepted {tol}"
+        );
+        assert!(
+            conjugate_gradient(&mc, &p, tol, 100, CgVariant::Recursive).is_err(),
+            "CG accepted {tol}"
+        );
+    }
+    assert!(richardson(&mc, &ml, &p, f64::EPSILON, 10_000).is_ok());
+}
