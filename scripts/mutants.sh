@@ -39,7 +39,8 @@ for m in "${modules[@]}"; do
   for t in ${TESTS[$m]}; do tests+=(--test "$t"); done
   echo "== $m: ${FILES[$m]} against ${TESTS[$m]}"
   mkdir -p "target/mutants/$m"
-  PROPTEST_CASES=64 cargo mutants "${args[@]}" --output "target/mutants/$m" \
+  # No debuginfo in the per-mutant test builds: linking is most of their cost.
+  PROPTEST_CASES=64 CARGO_PROFILE_TEST_DEBUG=false cargo mutants "${args[@]}" --output "target/mutants/$m" \
     --timeout 120 --no-shuffle -- "${tests[@]}" || true
   out="target/mutants/$m/mutants.out"
   for k in caught missed unviable timeout; do

@@ -131,4 +131,17 @@ fn relative_l2_error_definition() {
     assert!((e - (0.5f64).sqrt()).abs() < 1e-15);
     assert!(relative_l2_error(&[1.0], &[0.0]).is_err());
     assert!(relative_l2_error(&[], &[]).is_err());
+    // Both measures refuse what they cannot compare: unequal lengths,
+    // nothing at all, or a non-finite value on either side (issue #13).
+    use hompm::mpm::diagnostics::rms_error;
+    for (c, r) in [
+        (&[1.0][..], &[1.0, 2.0][..]),
+        (&[][..], &[][..]),
+        (&[f64::NAN][..], &[1.0][..]),
+        (&[1.0][..], &[f64::INFINITY][..]),
+    ] {
+        assert!(rms_error(c, r).is_err(), "{c:?} against {r:?}");
+        assert!(relative_l2_error(c, r).is_err(), "{c:?} against {r:?}");
+    }
+    assert_eq!(rms_error(&[1.0, 3.0], &[1.0, 1.0]).unwrap(), 2.0f64.sqrt());
 }

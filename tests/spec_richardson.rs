@@ -92,3 +92,36 @@ fn tolerances_outside_epsilon_to_finite_are_refused() {
     }
     assert!(richardson(&mc, &ml, &p, f64::EPSILON, 10_000).is_ok());
 }
+
+/// CG's true-residual variant reports ‖b − A x_k‖/‖b‖ itself at every
+/// iterate; the recursive residual drifts from it by rounding on an
+/// ill-conditioned system (book §4.6: high-p mass matrices).
+#[test]
+fn the_true_residual_variant_reports_the_true_residual() {
+    use hompm::solve::cg::{conjugate_gradient_observed, CgVariant};
+    use hompm::solve::{norm, LinearOperator};
+    let m = hompm::mass::unit_density_mass(16, 6, true).unwrap();
+    let b: Vec<f64> = (0..m.rows()).map(|i| ((i * 7 % 11) as f64) - 5.0).collect();
+    let drift = |variant: CgVariant| {
+        let mut iterates: Vec<Vec<f64>> = Vec::new();
+        let r = conjugate_gradient_observed(&m, &b, 1e-12, 400, variant, &mut |_, x| {
+            iterates.push(x.to_vec())
+        })
+        .unwrap();
+        let mut worst: f64 = 0.0;
+        for (x, reported) in iterates.iter().zip(&r.residuals).skip(1) {
+            let mut ax = vec![0.0; b.len()];
+            m.apply(x, &mut ax);
+            let truth = norm(&b.iter().zip(&ax).map(|(p, q)| p - q).collect::<Vec<_>>()) / norm(&b);
+            worst = worst.max((reported - truth).abs() / truth);
+        }
+        worst
+    };
+    let (true_drift, recursive_drift) =
+        (drift(CgVariant::TrueResidual), drift(CgVariant::Recursive));
+    assert!(true_drift < 1e-12, "{true_drift:e}");
+    assert!(
+        recursive_drift > 100.0 * true_drift.max(1e-16),
+        "{recursive_drift:e}"
+    );
+}
