@@ -232,6 +232,21 @@ fn degenerate_cell_is_detected_and_repaired_by_a_virtual_point() {
         "one virtual point, at 2π (π is a real point)"
     );
     assert!(cell.condition_number < 1e3);
+    // The virtual point is 2π valued by the right neighbour's fit: adding
+    // that point as data gives cell 1 the same fit (TLS paper §5.3).
+    let at = 2.0 * PI;
+    let value = repaired.cells[2].as_ref().unwrap().evaluate(at);
+    let (mut x2, mut y2) = (x.clone(), y.clone());
+    x2.insert(4, at);
+    y2.insert(4, value);
+    let explicit = reconstruct(&cells, &x2, &y2, Some(&ints), strict).unwrap();
+    for z in [PI, 1.25 * PI, 1.5 * PI, 1.75 * PI, 2.0 * PI] {
+        let (a, b) = (
+            explicit.cells[1].as_ref().unwrap().evaluate(z),
+            cell.evaluate(z),
+        );
+        assert!((a - b).abs() < 1e-12, "at {z}: {a} vs {b}");
+    }
     for (got, want) in repaired.cell_integrals().iter().zip(&ints) {
         assert!((got - want).abs() < 1e-13 * want);
     }
@@ -260,4 +275,57 @@ fn reconstruction_rejects_bad_input() {
     assert!(shape_functions_1d(0.5, &[0.0, 1.0], -1.0).is_err());
     assert!(reconstruct(&[(0.0, 1.0)], &[2.0], &[1.0], None, TlsOptions::default()).is_err());
     assert!(TaylorBasis::new(1.0, 1.0, 3).is_err());
+}
+
+/// n_b = 20 (`taylor::MAX_ORDER`) is accepted, 21 is not.
+#[test]
+fn tls_accepts_orders_up_to_the_maximum() {
+    use hompm::reconstruct::taylor::{reconstruct, TlsOptions, MAX_ORDER};
+    let cells = [(0.0, 1.0)];
+    let x: Vec<f64> = (0..30).map(|k| (k as f64 + 0.5) / 30.0).collect();
+    let y: Vec<f64> = x.iter().map(|v| v.sin()).collect();
+    let at = |order| {
+        reconstruct(
+            &cells,
+            &x,
+            &y,
+            None,
+            TlsOptions {
+                order,
+                ..TlsOptions::default()
+            },
+        )
+    };
+    assert!(at(MAX_ORDER).is_ok());
+    assert!(matches!(
+        at(MAX_ORDER + 1),
+        Err(hompm::Error::InvalidDegree(_))
+    ));
+    assert!(matches!(at(0), Err(hompm::Error::InvalidDegree(_))));
+}
+
+/// `TlsReconstruction::value_at` is `evaluate` inside the cells (ends
+/// included) and an error outside them or at NaN, as every reconstruction
+/// of `hompm reconstruct` (issue #13).
+#[test]
+fn tls_value_at_refuses_points_outside_the_cells() {
+    use hompm::reconstruct::taylor::{reconstruct, TlsOptions};
+    let cells = [(0.0, 1.0), (1.0, 2.0)];
+    let x = [0.1, 0.4, 0.8, 1.2, 1.5, 1.9];
+    let y: Vec<f64> = x.iter().map(|v| 1.0 + v * v).collect();
+    let r = reconstruct(&cells, &x, &y, None, TlsOptions::default()).unwrap();
+    for z in [0.0, 0.3, 1.0, 1.7, 2.0] {
+        assert_eq!(r.value_at(z).unwrap(), r.evaluate(z));
+        assert!((r.value_at(z).unwrap() - (1.0 + z * z)).abs() < 1e-12);
+    }
+    for z in [-1e-9, 2.0 + 1e-9, -5.0] {
+        assert!(
+            matches!(r.value_at(z), Err(hompm::Error::OutsideDomain { .. })),
+            "{z}"
+        );
+    }
+    assert!(matches!(
+        r.value_at(f64::NAN),
+        Err(hompm::Error::NonFinite { .. })
+    ));
 }
