@@ -21,6 +21,7 @@
 //! | 3 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
 //! | 4 | [`reconstruct`] | least squares, Taylor LS, cubic splines, MLS (book §4.4, TLS §5, thesis §7.1, MLS Eqs. 6–17) |
 //! | 5 | [`mpm`] | particles, grid bases, mappings, the MUSL step, diagnostics (book §4.2, TLS §3–5, thesis §3) |
+//! | 5 | [`mpm2d`] | 2D MPM, BSMPM and BSMPM with MLS: tensor grid, MLS at Gauss points, neo-Hookean (MLS Eqs. 4–5, 10–41) |
 //! | 5 | [`fem`] | updated-Lagrangian FEM reference (thesis §5.1.2, TLS §6.1) |
 //! | 6 | [`scenes`], [`studies`] | benchmark problems with named parameter sets; sweeps |
 //! | 0 | [`rng`] | the seeded generator behind every "random" layout |
@@ -36,6 +37,7 @@ pub mod fem;
 pub mod lagrange;
 pub mod mass;
 pub mod mpm;
+pub mod mpm2d;
 pub mod quadrature;
 pub mod reconstruct;
 pub mod report;

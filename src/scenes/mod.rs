@@ -9,8 +9,12 @@
 //! - [`column`]: the column under self-weight (thesis §4.2, Tables 4.3/4.4,
 //!   series solution Eq. 4.2) and with a top load (thesis Table 8.1).
 //!
-//! Items: [`Discretisation`], [`column`], [`vibrating_bar`].
+//! - [`aligned_vibration`]: the MLS paper's 2D manufactured neo-Hookean
+//!   vibration (Eqs. 38–42).
+//!
+//! Items: [`Discretisation`], [`aligned_vibration`], [`column`], [`vibrating_bar`].
 
+pub mod aligned_vibration;
 pub mod column;
 pub mod vibrating_bar;
 

@@ -1,0 +1,150 @@
+//! # The 2D background grid: a tensor product of two 1D grids
+//!
+//! MLS paper Eqs. (4)–(5): N_{(i,j)}(x, y) = N_i(x) N_j(y) and
+//! ∇N_{(i,j)} = (N_i'(x) N_j(y), N_i(x) N_j'(y)). Each axis is a 1D
+//! [`crate::mpm::grid::Grid`] on [0, L]: P1 Lagrange for bilinear MPM, or
+//! open-uniform B-splines of degree p for BSMPM, so no 2D basis is written
+//! twice. The 2D functions are never stored: the step evaluates the two 1D
+//! stencils at every particle and forms the products on the fly (the
+//! Kronecker structure).
+//!
+//! Node (i, j) has the global index i + n_x·j (x fastest, docs/conventions.md
+//! "2D numbering"). The integration points of the MLS mapping are the 2×2
+//! Gauss points of every cell (MLS paper: "Each cell contains 4 Gauss
+//! quadrature points"), also a tensor product: 2·cells abscissae per axis.
+//!
+//! Items: [`Basis2d`], [`Grid2d`].
+
+use crate::basis::Stencils;
+use crate::error::{Error, Result};
+use crate::mpm::grid::{Grid, Method};
+use crate::quadrature::GaussLegendre;
+use crate::spline::bspline::SpanScratch;
+use serde::Serialize;
+
+/// The basis of the 2D grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Basis2d {
+    /// Bilinear P1 ⊗ P1 (standard MPM).
+    Bilinear,
+    /// Open-uniform B-splines of the given degree in each direction (BSMPM).
+    BSpline {
+        /// Polynomial degree p ≥ 1.
+        degree: usize,
+    },
+}
+
+impl Basis2d {
+    fn method_1d(self) -> Method {
+        match self {
+            Basis2d::Bilinear => Method::Mpm,
+            Basis2d::BSpline { degree } => Method::Bsmpm { degree },
+        }
+    }
+}
+
+/// The tensor-product grid on [0, L]² with `cells` cells per direction.
+#[derive(Debug)]
+pub struct Grid2d {
+    basis: Basis2d,
+    axis: Grid,
+    length: f64,
+    cells: usize,
+    /// The 2·cells Gauss abscissae of one axis, cell by cell.
+    gauss_abscissae: Vec<f64>,
+    /// The basis of one axis at [`Grid2d::gauss_abscissae`].
+    gauss_stencils: Stencils,
+    /// The weight of one 2D Gauss point: (h/2)², the 2-point rule's weights
+    /// being 1 on [−1, 1].
+    gauss_weight: f64,
+}
+
+impl Grid2d {
+    /// The grid of `cells` × `cells` equal cells on [0, L]².
+    pub fn new(basis: Basis2d, length: f64, cells: usize) -> Result<Self> {
+        if !(length.is_finite() && length > 0.0) || cells == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "a 2D grid needs L > 0 and at least one cell, got L = {length}, {cells} cells"
+            )));
+        }
+        let axis = Grid::new(basis.method_1d(), 0.0, length, cells)?;
+        let rule = GaussLegendre::new(2)?;
+        let gauss_abscissae: Vec<f64> = axis
+            .cells()
+            .iter()
+            .flat_map(|&(c0, c1)| rule.on_interval(c0, c1).into_iter().map(|q| q.x))
+            .collect();
+        let mut gauss_stencils = axis.stencils(gauss_abscissae.len());
+        axis.fill_stencils(
+            &gauss_abscissae,
+            &mut gauss_stencils,
+            &mut SpanScratch::default(),
+        )?;
+        let h = length / cells as f64;
+        Ok(Self {
+            basis,
+            axis,
+            length,
+            cells,
+            gauss_abscissae,
+            gauss_stencils,
+            gauss_weight: 0.25 * h * h,
+        })
+    }
+
+    /// The basis.
+    pub fn basis(&self) -> Basis2d {
+        self.basis
+    }
+
+    /// The 1D grid of each axis.
+    pub fn axis(&self) -> &Grid {
+        &self.axis
+    }
+
+    /// L, the side of the square.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Cells per direction.
+    pub fn cells(&self) -> usize {
+        self.cells
+    }
+
+    /// h = L / cells.
+    pub fn cell_size(&self) -> f64 {
+        self.length / self.cells as f64
+    }
+
+    /// Basis functions per direction, n_x = n_y.
+    pub fn nodes_per_side(&self) -> usize {
+        self.axis.num_dofs()
+    }
+
+    /// n_x · n_y.
+    pub fn num_nodes(&self) -> usize {
+        self.nodes_per_side() * self.nodes_per_side()
+    }
+
+    /// Non-zero functions per direction at a point, p + 1.
+    pub fn stencil_width(&self) -> usize {
+        self.axis.stencil_width()
+    }
+
+    /// Gauss abscissae of one axis (2 per cell, cell by cell).
+    pub fn gauss_abscissae(&self) -> &[f64] {
+        &self.gauss_abscissae
+    }
+
+    /// The 1D basis at [`Grid2d::gauss_abscissae`].
+    pub fn gauss_stencils(&self) -> &Stencils {
+        &self.gauss_stencils
+    }
+
+    /// ω_g of every 2D Gauss point, (h/2)².
+    pub fn gauss_weight(&self) -> f64 {
+        self.gauss_weight
+    }
+}

@@ -1,0 +1,230 @@
+//! # MLS shape functions at the Gauss points, inside a time step
+//!
+//! MLS paper Eqs. (10)–(17) evaluated at every Gauss point x_g of the grid,
+//! for the particles as data points: φ_gp = pᵀ(x_g) A⁻¹(x_g) w(x_g − x_p)
+//! p(x_p), with p = [1, x, y] (Eq. 15) and the tensor-product
+//! quadratic-spline weight w(r_x) w(r_y) (Eqs. 16–17) at r = |x_g − x_p| /
+//! (s·h), h the cell size and s the support scale (1 by default; the weight
+//! vanishes beyond 1.5·s·h).
+//!
+//! Two choices that do not change the shape functions, only their cost and
+//! rounding (docs/conventions.md, "2D MPM"):
+//! - the basis is written in local scaled coordinates, p = [1, (x − x_g)/(s h),
+//!   (y − y_g)/(s h)], an affine change of [1, x, y] that spans the same space,
+//!   so A⁻¹B and hence φ are the same; then pᵀ(x_g) = [1, 0, 0] and φ_gp is
+//!   w_p times the first row of A⁻¹ applied to p(x_p);
+//! - the neighbours come from binning the particles by cell (a counting
+//!   sort, O(particles + cells)), and each Gauss point scans only the 4×4
+//!   cells its support can reach.
+//!
+//! A moment matrix A with κ₁(A) = ‖A‖₁‖A⁻¹‖₁ above
+//! [`crate::reconstruct::mls::MLS_MAX_CONDITION`] (too few particles in the
+//! support, the paper's own warning) is `Error::Singular`, naming the Gauss
+//! point and the number of particles its support holds.
+//!
+//! Items: [`MlsShapes`], [`GaussGrid`].
+
+use crate::error::{Error, Result};
+use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
+use nalgebra::Matrix3;
+
+/// The MLS shape functions φ_gp of every Gauss point, as flat lists
+/// (`start[g] .. start[g + 1]` index `particle` and `phi`), with the
+/// buffers of the neighbour search. Allocated once per simulation.
+#[derive(Debug, Clone, Default)]
+pub struct MlsShapes {
+    /// s: the weight's argument is r = |x − x_p| / (s·h).
+    pub support_scale: f64,
+    /// Where the list of Gauss point g starts.
+    pub start: Vec<usize>,
+    /// The particles in the support of each Gauss point.
+    pub particle: Vec<u32>,
+    /// φ_gp, aligned with `particle`.
+    pub phi: Vec<f64>,
+    /// The largest κ₁(A) met in the last evaluation.
+    pub largest_condition: f64,
+    bin_start: Vec<usize>,
+    bin_particles: Vec<u32>,
+    weight: Vec<f64>,
+    offset: Vec<[f64; 2]>,
+}
+
+/// The Gauss points of the grid: 2·cells abscissae per axis, g = gx + n·gy.
+pub struct GaussGrid<'a> {
+    /// The abscissae of one axis.
+    pub abscissae: &'a [f64],
+    /// Cells per direction.
+    pub cells: usize,
+    /// h.
+    pub cell_size: f64,
+}
+
+impl MlsShapes {
+    /// Buffers for `particles` particles on a grid of `cells`² cells.
+    pub fn new(support_scale: f64, cells: usize, particles: usize) -> Result<Self> {
+        if !(support_scale.is_finite() && support_scale > 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "the MLS support scale must be positive, got {support_scale}"
+            )));
+        }
+        if particles > u32::MAX as usize {
+            return Err(Error::InvalidArgument(format!(
+                "{particles} particles is more than the MLS lists index"
+            )));
+        }
+        let gauss_points = 4 * cells * cells;
+        // About (3 s)² · 9 neighbours per Gauss point at 9 particles per cell.
+        let per_point = ((3.0 * support_scale).powi(2) * particles as f64 / (cells * cells) as f64)
+            .ceil() as usize
+            + 8;
+        Ok(Self {
+            support_scale,
+            start: vec![0; gauss_points + 1],
+            particle: Vec::with_capacity(gauss_points * per_point),
+            phi: Vec::with_capacity(gauss_points * per_point),
+            largest_condition: 0.0,
+            bin_start: vec![0; cells * cells + 1],
+            bin_particles: vec![0; particles],
+            weight: Vec::with_capacity(4 * per_point),
+            offset: Vec::with_capacity(4 * per_point),
+        })
+    }
+
+    /// Sorts the particles by cell (a counting sort): the particles of cell
+    /// c are `bin_particles[bin_start[c] .. bin_start[c + 1]]`, in index order.
+    fn bin(&mut self, cell_x: &[usize], cell_y: &[usize], cells: usize) {
+        let starts = &mut self.bin_start;
+        starts.iter_mut().for_each(|s| *s = 0);
+        for (&cx, &cy) in cell_x.iter().zip(cell_y) {
+            starts[cx + cells * cy + 1] += 1;
+        }
+        for c in 0..cells * cells {
+            starts[c + 1] += starts[c];
+        }
+        for (k, (&cx, &cy)) in cell_x.iter().zip(cell_y).enumerate() {
+            let c = cx + cells * cy;
+            self.bin_particles[starts[c]] = k as u32;
+            starts[c] += 1;
+        }
+        // Each start moved to the next cell's start: shift back.
+        for c in (1..=cells * cells).rev() {
+            starts[c] = starts[c - 1];
+        }
+        starts[0] = 0;
+    }
+
+    /// φ_gp for every Gauss point g and particle p in its support (MLS paper
+    /// Eq. 14), from the particles' positions `x`, `y` and cells `cell_x`,
+    /// `cell_y`. Errors for a singular moment matrix.
+    pub fn evaluate(
+        &mut self,
+        gauss: &GaussGrid,
+        x: &[f64],
+        y: &[f64],
+        cell_x: &[usize],
+        cell_y: &[usize],
+    ) -> Result<()> {
+        let cells = gauss.cells;
+        self.bin(cell_x, cell_y, cells);
+        self.particle.clear();
+        self.phi.clear();
+        self.largest_condition = 0.0;
+        let n = 2 * cells;
+        let scale = 1.0 / (self.support_scale * gauss.cell_size);
+        let reach = 1.5 * self.support_scale * gauss.cell_size;
+        for gy in 0..n {
+            for gx in 0..n {
+                let g = gx + n * gy;
+                self.start[g] = self.particle.len();
+                let xg = [gauss.abscissae[gx], gauss.abscissae[gy]];
+                self.gauss_point(xg, x, y, gauss, scale, reach)?;
+            }
+        }
+        self.start[n * n] = self.particle.len();
+        Ok(())
+    }
+
+    /// The cells whose particles can lie within `reach` of `c` on one axis.
+    fn cell_range(c: f64, reach: f64, h: f64, cells: usize) -> std::ops::RangeInclusive<usize> {
+        let lo = ((c - reach) / h).floor().max(0.0) as usize;
+        let hi = (((c + reach) / h).floor() as usize).min(cells - 1);
+        lo..=hi
+    }
+
+    /// Eqs. (10), (14), (16)–(17) at one Gauss point: gathers the particles
+    /// with w > 0, accumulates A, inverts it and appends φ_gp.
+    fn gauss_point(
+        &mut self,
+        xg: [f64; 2],
+        x: &[f64],
+        y: &[f64],
+        gauss: &GaussGrid,
+        scale: f64,
+        reach: f64,
+    ) -> Result<()> {
+        let (h, cells) = (gauss.cell_size, gauss.cells);
+        self.weight.clear();
+        self.offset.clear();
+        let mut a = Matrix3::zeros();
+        let first = self.particle.len();
+        for cy in Self::cell_range(xg[1], reach, h, cells) {
+            for cx in Self::cell_range(xg[0], reach, h, cells) {
+                let c = cx + cells * cy;
+                for &k in &self.bin_particles[self.bin_start[c]..self.bin_start[c + 1]] {
+                    let d = [
+                        (x[k as usize] - xg[0]) * scale,
+                        (y[k as usize] - xg[1]) * scale,
+                    ];
+                    let w = quadratic_spline_weight(d[0]) * quadratic_spline_weight(d[1]);
+                    if w > 0.0 {
+                        accumulate_moment(&mut a, w, d);
+                        self.particle.push(k);
+                        self.weight.push(w);
+                        self.offset.push(d);
+                    }
+                }
+            }
+        }
+        let first_row = inverse_first_row(&a).and_then(|(row, kappa)| {
+            self.largest_condition = self.largest_condition.max(kappa);
+            (kappa <= MLS_MAX_CONDITION).then_some(row)
+        });
+        let Some(z) = first_row else {
+            return Err(Error::Singular(format!(
+                "MLS moment matrix A at the Gauss point ({:.6}, {:.6}) is singular or has κ₁ > {MLS_MAX_CONDITION:e}: {} particles in its support",
+                xg[0],
+                xg[1],
+                self.particle.len() - first
+            )));
+        };
+        for (w, d) in self.weight.iter().zip(&self.offset) {
+            self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));
+        }
+        Ok(())
+    }
+}
+
+/// A += w q qᵀ with q = [1, d_x, d_y] (MLS paper Eq. 10).
+fn accumulate_moment(a: &mut Matrix3<f64>, w: f64, d: [f64; 2]) {
+    let q = [1.0, d[0], d[1]];
+    for i in 0..3 {
+        for j in 0..3 {
+            a[(i, j)] += w * q[i] * q[j];
+        }
+    }
+}
+
+/// The first row of A⁻¹ (= its first column, A being symmetric) and
+/// κ₁(A) = ‖A‖₁‖A⁻¹‖₁; `None` if A is not invertible or κ is not finite.
+fn inverse_first_row(a: &Matrix3<f64>) -> Option<([f64; 3], f64)> {
+    let inv = a.try_inverse()?;
+    let norm1 = |m: &Matrix3<f64>| {
+        (0..3)
+            .map(|j| (0..3).map(|i| m[(i, j)].abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    };
+    let kappa = norm1(a) * norm1(&inv);
+    kappa
+        .is_finite()
+        .then_some(([inv[(0, 0)], inv[(0, 1)], inv[(0, 2)]], kappa))
+}

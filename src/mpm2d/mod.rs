@@ -1,0 +1,23 @@
+//! # The 2D material point method of the MLS paper
+//!
+//! Bilinear MPM, B-spline MPM and B-spline MPM with moving least squares on
+//! the unit square, as far as the MLS paper's aligned vibration needs and no
+//! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
+//! (10)–(17) at the Gauss points ([`mls`]), (18)–(37) (one step, [`step`]),
+//! (40)–(41) (the neo-Hookean solid, [`material`]). The particles are a
+//! struct of arrays ([`particles`]).
+//!
+//! Everything one-dimensional is reused from the 1D engine: each axis of the
+//! grid is a [`crate::mpm::grid::Grid`] (P1 Lagrange or open-uniform
+//! B-splines), and the 2D functions are products of two 1D stencils.
+
+pub mod grid;
+pub mod material;
+pub mod mls;
+pub mod particles;
+pub mod step;
+
+pub use grid::{Basis2d, Grid2d};
+pub use material::NeoHookean;
+pub use particles::Particles2d;
+pub use step::{BodyForce2d, Conservation2d, Mapping2d, Settings2d, Simulation2d};

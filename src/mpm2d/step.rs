@@ -1,0 +1,570 @@
+//! # One time step of 2D MPM, BSMPM and BSMPM with MLS
+//!
+//! The algorithm of the MLS paper (Eqs. 18–37), phase by phase. Each phase is
+//! one function below, called in this order by [`Simulation2d::step`]:
+//!
+//! 1. [`evaluate_basis`]: N_i(x_p) and ∇N_i(x_p) at the particles (Eqs. 4–5),
+//!    as two 1D stencils per particle;
+//! 2. phase 1, the mapping to the grid: [`map_direct`] (particles as the
+//!    quadrature points: m_i = Σ_p N_i m_p, (mv)_i = Σ_p N_i m_p v_p,
+//!    f_i^b = Σ_p N_i m_p b_p, f_i^int = −Σ_p ∇N_i σ_p V_p) or [`map_mls`]
+//!    (Eqs. 18–21 by MLS to the Gauss points, then Eqs. 22–25 by 2×2 Gauss
+//!    quadrature);
+//! 3. phase 2, [`nodal_update`]: f = f^int + f^b (Eq. 26), a = f/m (27),
+//!    (mv)^{t+1} = (mv)^t + f Δt (28), with zero normal velocity on the walls;
+//! 4. phase 3, [`update_particles`]: v_p and x_p (Eqs. 29–30);
+//! 5. [`end_of_step_velocity`]: the second mapping (Eqs. 31–33), direct or MLS
+//!    with the same φ_gp;
+//! 6. [`update_deformation`]: ∇v_p (34), F_p (35), V_p (36), ρ_p (37) and the
+//!    neo-Hookean stress (Eq. 41).
+//!
+//! Conventions (docs/conventions.md, "2D MPM"): every basis function and
+//! every φ_gp of a step is evaluated at the positions x_p^t of its start;
+//! the body force b is per unit mass (Eq. 42 has units of acceleration), so
+//! Eqs. (20) and (24) map ρ_p b_p; the mass is lumped, as in the paper; a
+//! node without mass (m_i ≤ 0, possible only where no particle reaches) is
+//! inactive: a_i = v_i = 0.
+//!
+//! A step allocates nothing: the stencils, nodal arrays and MLS lists live
+//! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
+//! gathers more particles than the reserve).
+//!
+//! Items: [`Mapping2d`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
+//! [`Conservation2d`], [`Simulation2d`], and the phase functions above.
+
+use super::grid::Grid2d;
+use super::material::NeoHookean;
+use super::mls::{GaussGrid, MlsShapes};
+use super::particles::Particles2d;
+use crate::basis::Stencils;
+use crate::error::{Error, Result};
+use crate::spline::bspline::SpanScratch;
+use nalgebra::Matrix2;
+use serde::Serialize;
+
+/// How particle data reach the grid (MLS paper, "phase 1").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mapping2d {
+    /// Particles as the quadrature points (standard MPM, BSMPM).
+    Direct,
+    /// MLS to the 2×2 Gauss points of each cell, then Gauss quadrature,
+    /// in both mappings of a step (Eqs. 18–25 and 31–33).
+    Mls,
+    /// hompm's diagnostic variant: MLS in phase 1 (Eqs. 18–25) and the
+    /// direct mapping for the end-of-step velocity (Eqs. 31–33), to tell
+    /// which of the two MLS mappings drives the errors.
+    MlsPhase1,
+}
+
+/// A body force per unit mass given at the particles, b_p(t).
+pub trait BodyForce2d: Send + Sync {
+    /// Writes b(X_p, t) for every particle with initial position `x0[p]`.
+    fn fill(&self, time: f64, x0: &[[f64; 2]], out: &mut [[f64; 2]]);
+}
+
+/// What a 2D run needs besides its grid and particles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings2d {
+    /// Direct or MLS mapping.
+    pub mapping: Mapping2d,
+    /// The material.
+    pub material: NeoHookean,
+    /// The MLS support scale s (r = |x − x_p|/(s·h)); unused for `Direct`.
+    pub mls_support: f64,
+}
+
+/// The largest relative mapping errors of a run: mass |Σ_i m_i − Σ_p m_p| /
+/// Σ_p m_p and momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, taken
+/// over every phase-1 mapping (before the wall conditions).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Conservation2d {
+    /// Largest relative mass error.
+    pub mass: f64,
+    /// Largest relative momentum error.
+    pub momentum: f64,
+}
+
+/// Everything a step writes besides the particles, allocated once.
+#[derive(Debug, Clone)]
+pub struct Workspace2d {
+    /// The x-axis basis at every particle.
+    pub along_x: Stencils,
+    /// The y-axis basis at every particle.
+    pub along_y: Stencils,
+    scratch: SpanScratch,
+    /// b_p(t) per unit mass.
+    pub body_force: Vec<[f64; 2]>,
+    /// Lumped nodal masses m_i (Eq. 22).
+    pub mass: Vec<f64>,
+    /// Nodal momenta (mv)_i, (Eqs. 23 and 28).
+    pub momentum: Vec<[f64; 2]>,
+    /// Nodal forces f_i (Eqs. 24–26).
+    pub force: Vec<[f64; 2]>,
+    /// End-of-step nodal velocities v_i^L (Eq. 33).
+    pub velocity: Vec<[f64; 2]>,
+    /// The MLS shape functions, for the MLS mapping.
+    pub mls: Option<MlsShapes>,
+}
+
+/// A 2D simulation: grid, particles, settings, workspace and clock.
+pub struct Simulation2d {
+    /// The grid.
+    pub grid: Grid2d,
+    /// The particles.
+    pub particles: Particles2d,
+    /// The settings.
+    pub settings: Settings2d,
+    /// The workspace.
+    pub workspace: Workspace2d,
+    /// The body force, if any.
+    pub body_force: Option<Box<dyn BodyForce2d>>,
+    /// Time reached.
+    pub time: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Mapping errors so far.
+    pub conservation: Conservation2d,
+}
+
+impl Simulation2d {
+    /// A simulation at t = 0. Errors if a particle lies outside the grid or
+    /// the settings are out of range.
+    pub fn new(
+        grid: Grid2d,
+        particles: Particles2d,
+        settings: Settings2d,
+        body_force: Option<Box<dyn BodyForce2d>>,
+    ) -> Result<Self> {
+        let n = particles.len();
+        let nodes = grid.num_nodes();
+        let mls = match settings.mapping {
+            Mapping2d::Direct => None,
+            Mapping2d::Mls | Mapping2d::MlsPhase1 => {
+                Some(MlsShapes::new(settings.mls_support, grid.cells(), n)?)
+            }
+        };
+        let workspace = Workspace2d {
+            along_x: grid.axis().stencils(n),
+            along_y: grid.axis().stencils(n),
+            scratch: SpanScratch::default(),
+            body_force: vec![[0.0; 2]; n],
+            mass: vec![0.0; nodes],
+            momentum: vec![[0.0; 2]; nodes],
+            force: vec![[0.0; 2]; nodes],
+            velocity: vec![[0.0; 2]; nodes],
+            mls,
+        };
+        let mut sim = Self {
+            grid,
+            particles,
+            settings,
+            workspace,
+            body_force,
+            time: 0.0,
+            steps: 0,
+            conservation: Conservation2d::default(),
+        };
+        evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0)?;
+        Ok(sim)
+    }
+
+    /// One step of length Δt > 0, MLS paper Eqs. (18)–(37).
+    pub fn step(&mut self, dt: f64) -> Result<()> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "the time step must be positive and finite, got {dt}"
+            )));
+        }
+        let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
+        evaluate_basis(grid, p, ws, self.steps)?;
+        if let Some(b) = &self.body_force {
+            b.fill(self.time, &p.x0, &mut ws.body_force);
+        }
+        match self.settings.mapping {
+            Mapping2d::Direct => map_direct(grid, p, ws),
+            Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
+        }
+        record_conservation(p, ws, &mut self.conservation);
+        nodal_update(grid, ws, dt);
+        update_particles(grid, p, ws, dt);
+        end_of_step_velocity(grid, p, ws, self.settings.mapping);
+        update_deformation(grid, p, ws, &self.settings.material, dt)
+            .map_err(|e| at_step(e, self.steps + 1, self.time + dt))?;
+        self.steps += 1;
+        self.time += dt;
+        Ok(())
+    }
+
+    /// `steps` steps of Δt.
+    pub fn run(&mut self, dt: f64, steps: usize) -> Result<()> {
+        for _ in 0..steps {
+            self.step(dt)?;
+        }
+        Ok(())
+    }
+}
+
+fn at_step(e: Error, step: usize, time: f64) -> Error {
+    match e {
+        Error::BlowUp(m) => Error::BlowUp(format!("step {step} (t = {time:e}): {m}")),
+        other => other,
+    }
+}
+
+/// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
+/// outside [0, L]² is `Error::ParticleLeftGrid`.
+pub fn evaluate_basis(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    step: usize,
+) -> Result<()> {
+    let axis = grid.axis();
+    for (coords, stencils) in [(&p.x, &mut ws.along_x), (&p.y, &mut ws.along_y)] {
+        if let Err(e) = axis.fill_stencils(coords, stencils, &mut ws.scratch) {
+            let k = coords
+                .iter()
+                .position(|&c| !(c >= 0.0 && c <= grid.length()))
+                .unwrap_or(0);
+            return Err(match e {
+                Error::OutsideDomain { x, a, b } => Error::ParticleLeftGrid {
+                    particle: k,
+                    step,
+                    x,
+                    a,
+                    b,
+                },
+                other => other,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn clear_nodes(ws: &mut Workspace2d) {
+    ws.mass.iter_mut().for_each(|m| *m = 0.0);
+    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    ws.force.iter_mut().for_each(|f| *f = [0.0; 2]);
+}
+
+/// Phase 1 with the particles as quadrature points: m_i = Σ_p N_i m_p,
+/// (mv)_i = Σ_p N_i m_p v_p, f_i = Σ_p (N_i m_p b_p − V_p σ_p ∇N_i)
+/// (MLS paper Eqs. 22–26 with ρ ω → m_p at x_p).
+pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
+    clear_nodes(ws);
+    let n = grid.nodes_per_side();
+    let w = grid.stencil_width();
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let m = p.mass[k];
+        let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
+        let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
+        let s = p.stress[k] * p.volume[k];
+        let (vx, gx) = (sx.values_of(k), sx.gradients_of(k));
+        let (vy, gy) = (sy.values_of(k), sy.gradients_of(k));
+        for b in 0..w {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            for a in 0..w {
+                let i = row + a;
+                let nn = vx[a] * vy[b];
+                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
+                ws.mass[i] += nn * m;
+                let mom = &mut ws.momentum[i];
+                mom[0] += nn * mv[0];
+                mom[1] += nn * mv[1];
+                let f = &mut ws.force[i];
+                f[0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+                f[1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+            }
+        }
+    }
+}
+
+/// Phase 1 by MLS: ρ_g, (ρv)_g, (ρb)_g and σ_g at every Gauss point
+/// (MLS paper Eqs. 18–21), then m_i = Σ_g N_i(x_g) ρ_g ω_g (22),
+/// (mv)_i = Σ_g N_i (ρv)_g ω_g (23), f_i^b = Σ_g N_i (ρb)_g ω_g (24) and
+/// f_i^int = −Σ_g ∇N_i σ_g ω_g (25).
+pub fn map_mls(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+    clear_nodes(ws);
+    // Taken out for the loop (a move, no allocation) and put back below.
+    let Some(mut mls) = ws.mls.take() else {
+        return Err(Error::InvalidArgument(
+            "the MLS mapping needs MLS buffers (Mapping2d::Mls)".into(),
+        ));
+    };
+    let result = map_mls_with(grid, p, ws, &mut mls);
+    ws.mls = Some(mls);
+    result
+}
+
+fn map_mls_with(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    mls: &mut MlsShapes,
+) -> Result<()> {
+    let gauss = GaussGrid {
+        abscissae: grid.gauss_abscissae(),
+        cells: grid.cells(),
+        cell_size: grid.cell_size(),
+    };
+    mls.evaluate(&gauss, &p.x, &p.y, &ws.along_x.first, &ws.along_y.first)?;
+    let omega = grid.gauss_weight();
+    let ng = 2 * grid.cells();
+    for g in 0..ng * ng {
+        let mut q = [0.0; 8];
+        for e in mls.start[g]..mls.start[g + 1] {
+            let (k, phi) = (mls.particle[e] as usize, mls.phi[e]);
+            let rho = p.density[k];
+            let s = &p.stress[k];
+            q[0] += phi * rho;
+            q[1] += phi * rho * p.velocity[k][0];
+            q[2] += phi * rho * p.velocity[k][1];
+            q[3] += phi * rho * ws.body_force[k][0];
+            q[4] += phi * rho * ws.body_force[k][1];
+            q[5] += phi * s[(0, 0)];
+            q[6] += phi * s[(1, 1)];
+            q[7] += phi * s[(0, 1)];
+        }
+        scatter_gauss_point(grid, g % ng, g / ng, &q.map(|v| v * omega), ws);
+    }
+    Ok(())
+}
+
+/// Eqs. (22)–(25) for one Gauss point (gx, gy) with ω-weighted values
+/// q = ω [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy].
+fn scatter_gauss_point(grid: &Grid2d, gx: usize, gy: usize, q: &[f64; 8], ws: &mut Workspace2d) {
+    let s = grid.gauss_stencils();
+    let n = grid.nodes_per_side();
+    let (vx, dx) = (s.values_of(gx), s.gradients_of(gx));
+    let (vy, dy) = (s.values_of(gy), s.gradients_of(gy));
+    for b in 0..vy.len() {
+        let row = (s.first[gy] + b) * n + s.first[gx];
+        for a in 0..vx.len() {
+            let i = row + a;
+            let nn = vx[a] * vy[b];
+            let dn = [dx[a] * vy[b], vx[a] * dy[b]];
+            ws.mass[i] += nn * q[0];
+            ws.momentum[i][0] += nn * q[1];
+            ws.momentum[i][1] += nn * q[2];
+            ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
+            ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+        }
+    }
+}
+
+fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Conservation2d) {
+    let particle_mass = p.total_mass();
+    let grid_mass: f64 = ws.mass.iter().sum();
+    let pm = p.total_momentum();
+    let scale: f64 = p
+        .mass
+        .iter()
+        .zip(&p.velocity)
+        .map(|(m, v)| m * v[0].hypot(v[1]))
+        .sum();
+    let gm = ws
+        .momentum
+        .iter()
+        .fold([0.0; 2], |s, m| [s[0] + m[0], s[1] + m[1]]);
+    c.mass = c
+        .mass
+        .max((grid_mass - particle_mass).abs() / particle_mass);
+    if scale > 0.0 {
+        c.momentum = c.momentum.max((gm[0] - pm[0]).hypot(gm[1] - pm[1]) / scale);
+    }
+}
+
+/// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components
+/// of the first and last column of nodes and the y components of the first
+/// and last row vanish. With open knot vectors (and P1) those are the only
+/// functions non-zero on the walls, so v·n = 0 along each wall.
+fn wall_conditions(n: usize, field: &mut [[f64; 2]]) {
+    for j in 0..n {
+        field[j * n][0] = 0.0;
+        field[j * n + n - 1][0] = 0.0;
+    }
+    for i in 0..n {
+        field[i][1] = 0.0;
+        field[(n - 1) * n + i][1] = 0.0;
+    }
+}
+
+/// Phase 2, MLS paper Eqs. (26)–(28): with the walls' conditions on f and
+/// (mv), (mv)_i ← (mv)_i + f_i Δt; `force` then holds a_i = f_i/m_i (27) and
+/// `velocity` the updated v_i = (mv)_i^{t+1}/m_i used by Eq. (30).
+pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
+    let n = grid.nodes_per_side();
+    wall_conditions(n, &mut ws.force);
+    wall_conditions(n, &mut ws.momentum);
+    for i in 0..ws.mass.len() {
+        let m = ws.mass[i];
+        let (f, mv) = (&mut ws.force[i], &mut ws.momentum[i]);
+        mv[0] += f[0] * dt;
+        mv[1] += f[1] * dt;
+        if m > 0.0 {
+            *f = [f[0] / m, f[1] / m];
+            ws.velocity[i] = [mv[0] / m, mv[1] / m];
+        } else {
+            *f = [0.0; 2];
+            ws.velocity[i] = [0.0; 2];
+        }
+    }
+}
+
+/// Σ_i N_i(x_p) q_i for particle k.
+fn interpolate(grid: &Grid2d, ws: &Workspace2d, k: usize, nodal: &[[f64; 2]]) -> [f64; 2] {
+    let n = grid.nodes_per_side();
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (vx, vy) = (sx.values_of(k), sy.values_of(k));
+    let mut s = [0.0; 2];
+    for (b, &nb) in vy.iter().enumerate() {
+        let row = (sy.first[k] + b) * n + sx.first[k];
+        for (a, &na) in vx.iter().enumerate() {
+            let q = nodal[row + a];
+            s[0] += na * nb * q[0];
+            s[1] += na * nb * q[1];
+        }
+    }
+    s
+}
+
+/// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
+/// x_p += Δt Σ_i N_i (mv)_i^{t+1}/m_i; u_p = x_p − X_p.
+pub fn update_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+    for k in 0..p.len() {
+        let a = interpolate(grid, ws, k, &ws.force);
+        let v = interpolate(grid, ws, k, &ws.velocity);
+        p.velocity[k][0] += dt * a[0];
+        p.velocity[k][1] += dt * a[1];
+        p.x[k] += dt * v[0];
+        p.y[k] += dt * v[1];
+        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+    }
+}
+
+/// MLS paper Eqs. (31)–(33): the particles' new velocities mapped again,
+/// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (direct) or Σ_g N_i (ρv)_g^L ω_g with
+/// (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} (MLS), then v_i^L = (mv)_i^L / m_i with
+/// the walls' conditions. Writes v^L into `velocity`.
+pub fn end_of_step_velocity(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    mapping: Mapping2d,
+) {
+    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    let n = grid.nodes_per_side();
+    match (mapping, &ws.mls) {
+        (Mapping2d::Mls, Some(mls)) => {
+            let s = grid.gauss_stencils();
+            let ng = 2 * grid.cells();
+            let omega = grid.gauss_weight();
+            for g in 0..ng * ng {
+                let mut q = [0.0; 2];
+                for e in mls.start[g]..mls.start[g + 1] {
+                    let (k, phi) = (mls.particle[e] as usize, mls.phi[e]);
+                    q[0] += phi * p.density[k] * p.velocity[k][0];
+                    q[1] += phi * p.density[k] * p.velocity[k][1];
+                }
+                let (gx, gy) = (g % ng, g / ng);
+                scatter_vector(
+                    n,
+                    s,
+                    gx,
+                    s,
+                    gy,
+                    [q[0] * omega, q[1] * omega],
+                    &mut ws.momentum,
+                );
+            }
+        }
+        _ => {
+            for k in 0..p.len() {
+                let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
+                scatter_vector(n, &ws.along_x, k, &ws.along_y, k, mv, &mut ws.momentum);
+            }
+        }
+    }
+    for i in 0..ws.mass.len() {
+        let m = ws.mass[i];
+        ws.velocity[i] = if m > 0.0 {
+            [ws.momentum[i][0] / m, ws.momentum[i][1] / m]
+        } else {
+            [0.0; 2]
+        };
+    }
+    wall_conditions(n, &mut ws.velocity);
+}
+
+/// out_i += N_i q over the tensor stencil of point kx of `sx` and ky of `sy`.
+fn scatter_vector(
+    n: usize,
+    sx: &Stencils,
+    kx: usize,
+    sy: &Stencils,
+    ky: usize,
+    q: [f64; 2],
+    out: &mut [[f64; 2]],
+) {
+    let (vx, vy) = (sx.values_of(kx), sy.values_of(ky));
+    for (b, &nb) in vy.iter().enumerate() {
+        let row = (sy.first[ky] + b) * n + sx.first[kx];
+        for (a, &na) in vx.iter().enumerate() {
+            let o = &mut out[row + a];
+            o[0] += na * nb * q[0];
+            o[1] += na * nb * q[1];
+        }
+    }
+}
+
+/// MLS paper Eqs. (34)–(37) and (41): ∇v_p = Σ_i v_i^L ⊗ ∇N_i(x_p),
+/// F_p ← (I + ∇v_p Δt) F_p, V_p = det(F_p) V_p⁰, ρ_p = m_p / V_p, σ_p from
+/// the neo-Hookean law. det F ≤ 0 is `Error::BlowUp`.
+pub fn update_deformation(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    dt: f64,
+) -> Result<()> {
+    let n = grid.nodes_per_side();
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let (vx, gx) = (sx.values_of(k), sx.gradients_of(k));
+        let (vy, gy) = (sy.values_of(k), sy.gradients_of(k));
+        let mut l = Matrix2::zeros();
+        for b in 0..vy.len() {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            for a in 0..vx.len() {
+                let v = ws.velocity[row + a];
+                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
+                l[(0, 0)] += v[0] * dn[0];
+                l[(0, 1)] += v[0] * dn[1];
+                l[(1, 0)] += v[1] * dn[0];
+                l[(1, 1)] += v[1] * dn[1];
+            }
+        }
+        let f = (Matrix2::identity() + l * dt) * p.deformation[k];
+        let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
+        p.deformation[k] = f;
+        p.volume[k] = j * p.volume0[k];
+        p.density[k] = p.mass[k] / p.volume[k];
+        p.stress[k] = material.cauchy_stress(&f)?;
+        if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
+            return Err(Error::BlowUp(format!(
+                "particle {k}: velocity ({:e}, {:e}) is not finite",
+                p.velocity[k][0], p.velocity[k][1]
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn particle_error(e: Error, k: usize) -> Error {
+    match e {
+        Error::BlowUp(m) => Error::BlowUp(format!("particle {k}: {m}")),
+        other => other,
+    }
+}

@@ -1,0 +1,423 @@
+//! # The 2D aligned vibration (MLS paper, "Numerical example")
+//!
+//! A manufactured solution on the unit square (after Sadeghirad et al. 2011):
+//!
+//! - displacement u = (A sin(2πX/L) sin(cπt/L), A sin(2πY/L) sin(cπt/L + π)),
+//!   MLS paper Eq. (38), and its time derivative v, Eq. (39);
+//! - F = diag(1 + (2πA/L) cos(2πX/L) sin(cπt/L), 1 + (2πA/L) cos(2πY/L)
+//!   sin(cπt/L + π)), and σ from the neo-Hookean law, Eq. (41);
+//! - the body force b = ü − ∇_X·P / ρ₀ that makes u a solution. Eq. (42)
+//!   prints it with a factor π/L²; the derivation (docs/derivations.md) and a
+//!   finite-difference test give **π²/L²**:
+//!   b_x = (π² u_x / L²)(4μ/ρ₀ − c² − 4[λ(ln J − 1) − μ]/(ρ₀ F_xx²)), and b_y
+//!   likewise with u_y and F_yy. hompm uses the derived force;
+//!   [`AlignedVibration::body_force_as_printed`] keeps the printed one for the
+//!   test that shows the difference.
+//!
+//! Parameters: ν = 0.3, ρ₀ = 1000 kg/m³, A = 0.1 m, L = 1 m, T = 0.2 s,
+//! Δt = 1e-5 s, c = √(E/ρ₀) (the paper's "√E/γ": the only velocity the listed
+//! parameters make). The paper's "E = 10e7 Pa" is ambiguous; both readings
+//! are named parameter sets, `mls-paper-e1e7` (the default, c = 100 m/s,
+//! T = 10 periods of the time factor) and `mls-paper-e1e8` (c = 316 m/s,
+//! 31.6 periods); docs/conventions.md, "2D MPM", gives the evidence.
+//!
+//! The walls carry zero normal velocity: the exact solution has u_x = 0 at
+//! X = 0, L and u_y = 0 at Y = 0, L for all t, and no shear stress.
+//!
+//! Items: [`AlignedVibration`], [`parameters`], [`PARAMETER_SETS`],
+//! [`AlignedMethod`], [`AlignedErrors`], [`AlignedRun`], [`ManufacturedForce`].
+
+use crate::error::{Error, Result};
+use crate::mpm2d::step::{BodyForce2d, Conservation2d, Mapping2d, Settings2d, Simulation2d};
+use crate::mpm2d::{Basis2d, Grid2d, NeoHookean, Particles2d};
+use nalgebra::Matrix2;
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// The parameters of the aligned vibration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AlignedVibration {
+    /// Young's modulus E [Pa].
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Initial density ρ₀ [kg/m³].
+    pub density: f64,
+    /// Amplitude A [m].
+    pub amplitude: f64,
+    /// Side L of the square [m].
+    pub length: f64,
+    /// Duration T [s].
+    pub duration: f64,
+    /// Time step Δt [s].
+    pub dt: f64,
+}
+
+/// The named parameter sets.
+pub const PARAMETER_SETS: [&str; 2] = ["mls-paper-e1e7", "mls-paper-e1e8"];
+
+/// A named parameter set: `mls-paper-e1e7` or `mls-paper-e1e8`.
+pub fn parameters(name: &str) -> Result<AlignedVibration> {
+    let young = match name {
+        "mls-paper-e1e7" => 1e7,
+        "mls-paper-e1e8" => 1e8,
+        other => {
+            return Err(Error::InvalidArgument(format!(
+                "unknown parameter set {other:?} of aligned-vibration; known: {}",
+                PARAMETER_SETS.join(", ")
+            )))
+        }
+    };
+    Ok(AlignedVibration {
+        young,
+        poisson: 0.3,
+        density: 1000.0,
+        amplitude: 0.1,
+        length: 1.0,
+        duration: 0.2,
+        dt: 1e-5,
+    })
+}
+
+/// The three methods of the MLS paper's Figures 2–4.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AlignedMethod {
+    /// Bilinear MPM, direct mapping.
+    Mpm,
+    /// B-spline MPM of a degree, direct mapping.
+    Bsmpm {
+        /// Degree p.
+        degree: usize,
+    },
+    /// B-spline MPM with the MLS mapping.
+    BsmpmMls {
+        /// Degree p.
+        degree: usize,
+    },
+    /// hompm's diagnostic: MLS in phase 1 only, the direct mapping for the
+    /// end-of-step velocity ([`Mapping2d::MlsPhase1`]).
+    BsmpmMlsPhase1 {
+        /// Degree p.
+        degree: usize,
+    },
+}
+
+impl AlignedMethod {
+    /// Grid basis and mapping.
+    pub fn parts(self) -> (Basis2d, Mapping2d) {
+        match self {
+            AlignedMethod::Mpm => (Basis2d::Bilinear, Mapping2d::Direct),
+            AlignedMethod::Bsmpm { degree } => (Basis2d::BSpline { degree }, Mapping2d::Direct),
+            AlignedMethod::BsmpmMls { degree } => (Basis2d::BSpline { degree }, Mapping2d::Mls),
+            AlignedMethod::BsmpmMlsPhase1 { degree } => {
+                (Basis2d::BSpline { degree }, Mapping2d::MlsPhase1)
+            }
+        }
+    }
+
+    /// A label for tables and charts.
+    pub fn label(self) -> String {
+        match self {
+            AlignedMethod::Mpm => "MPM".into(),
+            AlignedMethod::Bsmpm { degree } => format!("BSMPM-p{degree}"),
+            AlignedMethod::BsmpmMls { degree } => format!("BSMPM-p{degree}-MLS"),
+            AlignedMethod::BsmpmMlsPhase1 { degree } => format!("BSMPM-p{degree}-MLS-phase-1"),
+        }
+    }
+}
+
+/// RMS errors (MLS paper Eq. 43) at the particles at one time: ‖·‖ is the
+/// Euclidean norm for u and v and the Frobenius norm for σ.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AlignedErrors {
+    /// Time t.
+    pub time: f64,
+    /// RMS of ‖u_p − u(X_p, t)‖.
+    pub displacement: f64,
+    /// RMS of ‖v_p − v(X_p, t)‖.
+    pub velocity: f64,
+    /// RMS of ‖σ_p − σ(X_p, t)‖_F.
+    pub stress: f64,
+}
+
+/// The result of one run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AlignedRun {
+    /// Method.
+    pub method: AlignedMethod,
+    /// Cells per direction.
+    pub cells: usize,
+    /// Particles per cell.
+    pub ppc: usize,
+    /// Steps taken.
+    pub steps: usize,
+    /// Errors at the end.
+    pub last: AlignedErrors,
+    /// Errors at the recorded times (t = 0 first).
+    pub history: Vec<AlignedErrors>,
+    /// The largest relative mass and momentum errors of the mappings.
+    pub conservation: Conservation2d,
+    /// Wall-clock seconds of the time stepping.
+    pub seconds: f64,
+}
+
+impl AlignedRun {
+    /// Wall-clock nanoseconds per particle and step.
+    pub fn ns_per_particle_step(&self) -> f64 {
+        let n = (self.cells * self.cells * self.ppc * self.steps) as f64;
+        1e9 * self.seconds / n
+    }
+}
+
+impl AlignedVibration {
+    /// c = √(E/ρ₀), the speed in the time factor sin(cπt/L).
+    pub fn wave_speed(&self) -> f64 {
+        (self.young / self.density).sqrt()
+    }
+
+    /// The neo-Hookean solid of E and ν.
+    pub fn material(&self) -> Result<NeoHookean> {
+        NeoHookean::from_young_poisson(self.young, self.poisson)
+    }
+
+    /// The dilatational wave speed √((λ + 2μ)/ρ₀) of the linearised solid.
+    pub fn dilatational_wave_speed(&self) -> Result<f64> {
+        let m = self.material()?;
+        Ok(((m.lambda + 2.0 * m.mu) / self.density).sqrt())
+    }
+
+    /// The Courant number c_d Δt / h on `cells` cells per side.
+    pub fn courant_number(&self, cells: usize) -> Result<f64> {
+        Ok(self.dilatational_wave_speed()? * self.dt * cells as f64 / self.length)
+    }
+
+    /// Periods of sin(cπt/L) in T: cT/(2L).
+    pub fn periods(&self) -> f64 {
+        self.wave_speed() * self.duration / (2.0 * self.length)
+    }
+
+    fn time_factors(&self, t: f64) -> [f64; 2] {
+        let phase = self.wave_speed() * PI * t / self.length;
+        [phase.sin(), (phase + PI).sin()]
+    }
+
+    /// u(X, t), MLS paper Eq. (38).
+    pub fn displacement(&self, x0: [f64; 2], t: f64) -> [f64; 2] {
+        let s = self.time_factors(t);
+        let k = 2.0 * PI / self.length;
+        [
+            self.amplitude * (k * x0[0]).sin() * s[0],
+            self.amplitude * (k * x0[1]).sin() * s[1],
+        ]
+    }
+
+    /// v(X, t) = ∂u/∂t, MLS paper Eq. (39).
+    pub fn velocity(&self, x0: [f64; 2], t: f64) -> [f64; 2] {
+        let c = self.wave_speed();
+        let phase = c * PI * t / self.length;
+        let k = 2.0 * PI / self.length;
+        let a = self.amplitude * c * PI / self.length;
+        [
+            a * (k * x0[0]).sin() * phase.cos(),
+            a * (k * x0[1]).sin() * (phase + PI).cos(),
+        ]
+    }
+
+    /// F(X, t) = I + ∂u/∂X, diagonal.
+    pub fn deformation_gradient(&self, x0: [f64; 2], t: f64) -> Matrix2<f64> {
+        let s = self.time_factors(t);
+        let k = 2.0 * PI / self.length;
+        let a = self.amplitude * k;
+        Matrix2::new(
+            1.0 + a * (k * x0[0]).cos() * s[0],
+            0.0,
+            0.0,
+            1.0 + a * (k * x0[1]).cos() * s[1],
+        )
+    }
+
+    /// σ(X, t), MLS paper Eq. (41) at the exact F.
+    pub fn stress(&self, x0: [f64; 2], t: f64) -> Result<Matrix2<f64>> {
+        self.material()?
+            .cauchy_stress(&self.deformation_gradient(x0, t))
+    }
+
+    fn body_force_with(&self, x0: [f64; 2], t: f64, factor: f64) -> Result<[f64; 2]> {
+        let m = self.material()?;
+        let u = self.displacement(x0, t);
+        let f = self.deformation_gradient(x0, t);
+        let ln_j = NeoHookean::jacobian(&f)?.ln();
+        let c2 = self.wave_speed().powi(2);
+        let rho = self.density;
+        let l2 = self.length * self.length;
+        let bracket = |fii: f64| {
+            4.0 * m.mu / rho - c2 - 4.0 * (m.lambda * (ln_j - 1.0) - m.mu) / (rho * fii * fii)
+        };
+        Ok([
+            factor * u[0] / l2 * bracket(f[(0, 0)]),
+            factor * u[1] / l2 * bracket(f[(1, 1)]),
+        ])
+    }
+
+    /// The body force per unit mass that makes Eq. (38) a solution:
+    /// b = ü − ∇_X·P/ρ₀, i.e. Eq. (42) with **π²** (module doc).
+    pub fn body_force(&self, x0: [f64; 2], t: f64) -> Result<[f64; 2]> {
+        self.body_force_with(x0, t, PI * PI)
+    }
+
+    /// Eq. (42) exactly as printed, with π where the derivation gives π².
+    pub fn body_force_as_printed(&self, x0: [f64; 2], t: f64) -> Result<[f64; 2]> {
+        self.body_force_with(x0, t, PI)
+    }
+
+    /// The simulation at t = 0: `per_side`² particles per cell at the
+    /// centres of equal sub-cells, v = v(X, 0), F = I, σ = 0, and the
+    /// derived body force.
+    pub fn simulation(
+        &self,
+        method: AlignedMethod,
+        cells: usize,
+        per_side: usize,
+        mls_support: f64,
+    ) -> Result<Simulation2d> {
+        let (basis, mapping) = method.parts();
+        let grid = Grid2d::new(basis, self.length, cells)?;
+        let particles =
+            Particles2d::cell_centred(self.length, cells, per_side, self.density, |x| {
+                self.velocity(x, 0.0)
+            })?;
+        let force = ManufacturedForce::new(*self, &particles.x0)?;
+        let settings = Settings2d {
+            mapping,
+            material: self.material()?,
+            mls_support,
+        };
+        Simulation2d::new(grid, particles, settings, Some(Box::new(force)))
+    }
+
+    /// RMS errors (Eq. 43) of a simulation's particles at its time.
+    pub fn errors(&self, sim: &Simulation2d) -> Result<AlignedErrors> {
+        let p = &sim.particles;
+        let t = sim.time;
+        let (mut eu, mut ev, mut es) = (0.0, 0.0, 0.0);
+        for k in 0..p.len() {
+            let x0 = p.x0[k];
+            let (u, v) = (self.displacement(x0, t), self.velocity(x0, t));
+            eu += (p.displacement[k][0] - u[0]).powi(2) + (p.displacement[k][1] - u[1]).powi(2);
+            ev += (p.velocity[k][0] - v[0]).powi(2) + (p.velocity[k][1] - v[1]).powi(2);
+            es += (p.stress[k] - self.stress(x0, t)?).norm_squared();
+        }
+        let n = p.len() as f64;
+        let e = AlignedErrors {
+            time: t,
+            displacement: (eu / n).sqrt(),
+            velocity: (ev / n).sqrt(),
+            stress: (es / n).sqrt(),
+        };
+        if [e.displacement, e.velocity, e.stress]
+            .iter()
+            .all(|x| x.is_finite())
+        {
+            Ok(e)
+        } else {
+            Err(Error::BlowUp(format!(
+                "the RMS errors at t = {t:e} are not finite"
+            )))
+        }
+    }
+
+    /// Runs `steps` steps of Δt and records the errors every `record_every`
+    /// steps (and at the end).
+    pub fn run(
+        &self,
+        method: AlignedMethod,
+        cells: usize,
+        per_side: usize,
+        steps: usize,
+        record_every: usize,
+    ) -> Result<AlignedRun> {
+        let mut sim = self.simulation(method, cells, per_side, 1.0)?;
+        let mut history = vec![self.errors(&sim)?];
+        let mut seconds = 0.0;
+        let mut done = 0;
+        while done < steps {
+            let chunk = if record_every > 0 {
+                record_every.min(steps - done)
+            } else {
+                steps - done
+            };
+            let start = std::time::Instant::now();
+            sim.run(self.dt, chunk)?;
+            seconds += start.elapsed().as_secs_f64();
+            done += chunk;
+            history.push(self.errors(&sim)?);
+        }
+        Ok(AlignedRun {
+            method,
+            cells,
+            ppc: per_side * per_side,
+            steps,
+            last: *history.last().expect("the initial errors"),
+            history,
+            conservation: sim.conservation,
+            seconds,
+        })
+    }
+}
+
+/// The derived body force of Eq. (42) (with π²) at fixed particles, with
+/// sin and cos of 2πX/L and 2πY/L precomputed per particle so that a step
+/// pays one logarithm per particle.
+pub struct ManufacturedForce {
+    scene: AlignedVibration,
+    material: NeoHookean,
+    /// [sin 2πX/L, cos 2πX/L, sin 2πY/L, cos 2πY/L] per particle.
+    trig: Vec<[f64; 4]>,
+}
+
+impl ManufacturedForce {
+    /// For the particles with initial positions `x0`.
+    pub fn new(scene: AlignedVibration, x0: &[[f64; 2]]) -> Result<Self> {
+        let k = 2.0 * PI / scene.length;
+        Ok(Self {
+            material: scene.material()?,
+            scene,
+            trig: x0
+                .iter()
+                .map(|x| {
+                    [
+                        (k * x[0]).sin(),
+                        (k * x[0]).cos(),
+                        (k * x[1]).sin(),
+                        (k * x[1]).cos(),
+                    ]
+                })
+                .collect(),
+        })
+    }
+}
+
+impl BodyForce2d for ManufacturedForce {
+    fn fill(&self, time: f64, _x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
+        let sc = &self.scene;
+        let s = sc.time_factors(time);
+        let a = sc.amplitude;
+        let ak = a * 2.0 * PI / sc.length;
+        let (lambda, mu, rho) = (self.material.lambda, self.material.mu, sc.density);
+        let c2 = sc.wave_speed().powi(2);
+        let pre = PI * PI / (sc.length * sc.length);
+        for (o, t) in out.iter_mut().zip(&self.trig) {
+            let fxx = 1.0 + ak * t[1] * s[0];
+            let fyy = 1.0 + ak * t[3] * s[1];
+            let ln_j = (fxx * fyy).ln();
+            let bracket = |fii: f64| {
+                4.0 * mu / rho - c2 - 4.0 * (lambda * (ln_j - 1.0) - mu) / (rho * fii * fii)
+            };
+            *o = [
+                pre * a * t[0] * s[0] * bracket(fxx),
+                pre * a * t[2] * s[1] * bracket(fyy),
+            ];
+        }
+    }
+}
