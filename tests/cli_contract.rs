@@ -218,3 +218,57 @@ fn table_list_json_is_json() {
         .collect();
     assert_eq!(ids, hompm::tables::ids());
 }
+
+/// `hompm run aligned-vibration` (MLS paper): the JSON has the 1D run's keys
+/// with [x, y] pairs and 2×2 tensors as rows, and what the 2D scene cannot
+/// do is refused with a sentence.
+#[test]
+fn the_2d_run_prints_tensor_fields_and_refuses_what_it_cannot_do() {
+    let out = run("run aligned-vibration --method bsmpm-mls --cells 4 --steps 5 --json").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    assert_eq!(v["scene"], "aligned-vibration");
+    assert_eq!(v["mapping"], "mls");
+    assert_eq!(v["ppc"], 9);
+    assert_eq!(v["particles"]["x"].as_array().unwrap().len(), 16 * 9);
+    assert_eq!(v["particles"]["stress"][0].as_array().unwrap().len(), 4);
+    assert_eq!(
+        v["particles"]["deformation_gradient"][0]
+            .as_array()
+            .unwrap()
+            .len(),
+        4
+    );
+    for key in [
+        "rms_displacement",
+        "rms_velocity",
+        "rms_stress",
+        "mapping_mass_error",
+    ] {
+        assert!(v["diagnostics"][key].as_f64().unwrap().is_finite(), "{key}");
+    }
+    for (args, needle) in [
+        (
+            "run aligned-vibration --method ddmpm --steps 1",
+            "runs mpm, bsmpm",
+        ),
+        (
+            "run aligned-vibration --ppc 5 --steps 1",
+            "must be a square",
+        ),
+        (
+            "run vibrating-bar --method bsmpm-mls",
+            "only in the 2D scene",
+        ),
+        (
+            "run aligned-vibration --params nope --steps 1",
+            "unknown parameter set",
+        ),
+        (
+            "run aligned-vibration --cells 5000 --steps 100000",
+            "--max-memory",
+        ),
+    ] {
+        let e = refused(args).to_string();
+        assert!(e.contains(needle), "{args}: {e}");
+    }
+}

@@ -78,7 +78,14 @@ fn book_4_3_counts_match_or_lie_inside_the_floating_point_spread() {
 #[test]
 fn book_4_4_vcycles_reproduce() {
     let spec = tables::find("book-4.4").unwrap();
-    let report = tables::run(&spec, &RunOptions { quick: true }).unwrap();
+    let report = tables::run(
+        &spec,
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(report.counts(), (20, 20));
     assert!(report
         .status

@@ -13,7 +13,10 @@ use hompm::tables::{self, RunOptions, Status};
 fn tls_fig6_orders() {
     let report = tables::run(
         &tables::find("tls-fig6").unwrap(),
-        &RunOptions { quick: true },
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
     )
     .unwrap();
     let orders = ["displacement", "velocity"];

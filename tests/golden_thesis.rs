@@ -5,7 +5,14 @@ use hompm::tables::{self, RunOptions, Status};
 
 fn check(id: &str) {
     let spec = tables::find(id).unwrap();
-    let report = tables::run(&spec, &RunOptions { quick: true }).unwrap();
+    let report = tables::run(
+        &spec,
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let (rep, total) = report.counts();
     assert_eq!(rep, total, "{id}: {}", report.render_text());
     assert!(report

@@ -28,7 +28,14 @@ fn tls_mapping_conserves_to_machine_precision() {
 /// docs/reproduction.md.
 #[test]
 fn tls_3_table() {
-    let report = tables::run(&tables::find("tls-3").unwrap(), &RunOptions { quick: true }).unwrap();
+    let report = tables::run(
+        &tables::find("tls-3").unwrap(),
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     common::assert_reproduced(
         &report,
         &[

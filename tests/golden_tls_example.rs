@@ -19,11 +19,21 @@ fn tls_integral_is_conserved_to_machine_precision() {
             assert!(e <= 1e-13, "seed {seed}, {gp} GP: {e}");
         }
     }
-    let report = tables::run(&tables::find("tls-1").unwrap(), &RunOptions { quick: true }).unwrap();
+    let report = tables::run(
+        &tables::find("tls-1").unwrap(),
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(report.status[1][1], Status::Reproduced);
     let report = tables::run(
         &tables::find("book-tls-example").unwrap(),
-        &RunOptions { quick: true },
+        &RunOptions {
+            quick: true,
+            ..Default::default()
+        },
     )
     .unwrap();
     assert_eq!(report.status[1][0], Status::Reproduced);

@@ -45,6 +45,7 @@ fn computed_rows_are_placed_by_label_and_unknown_labels_are_errors() {
             Computed::row("Cubic-spline", [2.0; 6]),
         ],
         notes: vec![],
+        ..Default::default()
     };
     let r = tables::compare(&s, &p, computed).unwrap();
     assert_eq!(r.row_labels, ["Cubic-spline", "TLS"]);
@@ -54,6 +55,7 @@ fn computed_rows_are_placed_by_label_and_unknown_labels_are_errors() {
     let only_tls = Computed {
         rows: vec![Computed::row("TLS", [1e-15; 6])],
         notes: vec![],
+        ..Default::default()
     };
     let r = tables::compare(&s, &p, only_tls).unwrap();
     assert!(r.computed[0].iter().all(Option::is_none));
@@ -68,6 +70,7 @@ fn computed_rows_are_placed_by_label_and_unknown_labels_are_errors() {
         let bad = Computed {
             rows,
             notes: vec![],
+            ..Default::default()
         };
         assert!(matches!(
             tables::compare(&s, &p, bad),

@@ -24,6 +24,11 @@ pub enum MethodArg {
     Ddmpm,
     /// B-spline MPM of degree --degree (book §4.3).
     Bsmpm,
+    /// B-spline MPM with MLS to the Gauss points (MLS paper; aligned-vibration only).
+    BsmpmMls,
+    /// Total-Lagrangian FE with B-splines, no grid crossing (hompm's
+    /// reference; aligned-vibration only).
+    TlFe,
 }
 
 impl MethodArg {
@@ -39,6 +44,12 @@ impl MethodArg {
                 return Err(Error::InvalidDegree(
                     "bsmpm needs --degree ≥ 1, got 0".into(),
                 ))
+            }
+            MethodArg::BsmpmMls | MethodArg::TlFe => {
+                return Err(Error::InvalidArgument(format!(
+                    "--method {} runs only in the 2D scene aligned-vibration",
+                    name(&self)
+                )))
             }
         })
     }
@@ -125,6 +136,9 @@ pub enum SceneArg {
     ColumnSelfWeight,
     /// Thesis §8.1: the column under a top load.
     ColumnTopLoad,
+    /// MLS paper: the 2D manufactured neo-Hookean vibration (methods mpm,
+    /// bsmpm, bsmpm-mls, tl-fe).
+    AlignedVibration,
 }
 
 /// The name clap knows a value by (`mpm-p2`, `cubic-spline`, …).

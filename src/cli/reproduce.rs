@@ -24,8 +24,12 @@ pub struct ReproduceArgs {
     #[arg(long, num_args = 1.., value_delimiter = ',')]
     only: Vec<String>,
     /// Reduced sizes (smoke test).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "full")]
     quick: bool,
+    /// The largest sizes and the extra studies (mls-aligned: 64 cells, the
+    /// PPC study, E = 1e8 Pa; about 10 min on 2 cores).
+    #[arg(long)]
+    full: bool,
     /// Also write the generated reproduction status to this path
     /// (docs/reproduction.md in the repository).
     #[arg(long)]
@@ -126,7 +130,13 @@ pub fn reproduce(a: ReproduceArgs) -> Result<Output> {
         .into_iter()
         .filter(|id| a.only.is_empty() || a.only.iter().any(|o| o == id))
         .collect();
-    let reports = run_tables(&ids, RunOptions { quick: a.quick })?;
+    let reports = run_tables(
+        &ids,
+        RunOptions {
+            quick: a.quick,
+            full: a.full,
+        },
+    )?;
     let studies = if a.only.is_empty() {
         run_studies(&a.out, &reports, a.quick)?
     } else {

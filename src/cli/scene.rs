@@ -1,10 +1,11 @@
-//! # `hompm run`: one 1D MPM scene, watched by the stability monitor
+//! # `hompm run`: one MPM scene, watched by the stability monitor
 //!
 //! Builds a scene (`scenes`), runs MUSL (book §4.2.2) step by step under
 //! [`StabilityMonitor`] (a diverged run is an error naming step, particle
 //! and cause; a suspicious one warns), and prints the final particle state,
 //! the diagnostics, the RMS errors against the analytic solution where one
-//! exists, and the warnings.
+//! exists, and the warnings. The 2D scene `aligned-vibration` runs in
+//! [`aligned`].
 //!
 //! Items: [`RunArgs`], [`run_scene`].
 
@@ -18,6 +19,8 @@ use crate::mpm::monitor::{StabilityMonitor, Warning};
 use crate::mpm::musl::{Constitutive, Simulation};
 use crate::scenes::{column, vibrating_bar, Discretisation};
 use serde::Serialize;
+
+mod aligned;
 
 /// Arguments of `hompm run`.
 #[derive(clap::Args, Debug)]
@@ -43,9 +46,10 @@ pub struct RunArgs {
     /// Elements or knot spans.
     #[arg(long, default_value_t = 16, value_parser = count, allow_negative_numbers = true)]
     cells: usize,
-    /// Particles per cell.
-    #[arg(long, default_value_t = 4, value_parser = count, allow_negative_numbers = true)]
-    ppc: usize,
+    /// Particles per cell [default: 4 in 1D, 9 (3 × 3) in aligned-vibration,
+    /// where it must be a square].
+    #[arg(long, value_parser = count, allow_negative_numbers = true)]
+    ppc: Option<usize>,
     /// Time step.
     #[arg(long, default_value_t = 1e-5, allow_negative_numbers = true)]
     dt: f64,
@@ -88,11 +92,24 @@ struct RunJson {
     warnings: Vec<Warning>,
 }
 
+impl RunArgs {
+    /// --ppc, or its default: 4 in 1D, 9 in 2D.
+    fn ppc(&self) -> usize {
+        self.ppc
+            .unwrap_or(if self.scene == SceneArg::AlignedVibration {
+                9
+            } else {
+                4
+            })
+    }
+}
+
 fn validate(a: &RunArgs) -> Result<()> {
-    if a.cells == 0 || a.ppc == 0 {
+    if a.cells == 0 || a.ppc() == 0 {
         return Err(Error::InvalidArgument(format!(
             "--cells and --ppc must be at least 1, got {} and {}",
-            a.cells, a.ppc
+            a.cells,
+            a.ppc()
         )));
     }
     if !(a.dt > 0.0 && a.dt.is_finite()) {
@@ -107,7 +124,9 @@ fn validate(a: &RunArgs) -> Result<()> {
             a.dt, a.steps
         )));
     }
-    a.method.method(a.degree)?;
+    if a.scene != SceneArg::AlignedVibration {
+        a.method.method(a.degree)?;
+    }
     Ok(())
 }
 
@@ -117,11 +136,11 @@ fn validate(a: &RunArgs) -> Result<()> {
 /// benchmark measures 24–50 ns for w ≤ 3), 200 ns more for TLS or
 /// cubic-spline mappings, and a banded solve per step for a consistent mass.
 fn check_limits(a: &RunArgs, limits: &Limits) -> Result<()> {
-    let particles = a.cells as f64 * a.ppc as f64;
+    let particles = a.cells as f64 * a.ppc() as f64;
     let width = match a.method {
         MethodArg::Mpm | MethodArg::Ddmpm => 4.0,
         MethodArg::MpmP2 => 3.0,
-        MethodArg::Bsmpm => a.degree as f64 + 1.0,
+        _ => a.degree as f64 + 1.0,
     };
     let dofs = 2.0 * a.cells as f64 + width;
     let what = || format!("a run of {particles:.0} particles × {} steps", a.steps);
@@ -148,7 +167,7 @@ fn build(a: &RunArgs) -> Result<(Simulation, serde_json::Value, Reference)> {
         mapping,
         a.mass.into(),
         a.cells,
-        a.ppc,
+        a.ppc(),
     );
     match a.scene {
         SceneArg::VibratingBar => {
@@ -184,6 +203,9 @@ fn build(a: &RunArgs) -> Result<(Simulation, serde_json::Value, Reference)> {
             });
             Ok((p.simulation(&d)?, params_json(&p)?, reference))
         }
+        SceneArg::AlignedVibration => Err(Error::InvalidArgument(
+            "aligned-vibration is a 2D scene (cli::scene::aligned)".into(),
+        )),
     }
 }
 
@@ -240,6 +262,9 @@ fn with_time_step_cause(e: Error, monitor: &StabilityMonitor, time: f64) -> Erro
 /// `hompm run`.
 pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
     validate(&a)?;
+    if a.scene == SceneArg::AlignedVibration {
+        return aligned::run_aligned(&a, limits);
+    }
     check_limits(&a, limits)?;
     let (mut sim, params, reference) = build(&a)?;
     let warnings = advance(&mut sim, a.dt, a.steps)?;
@@ -252,7 +277,7 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         mapping: name(&a.mapping),
         mass: name(&a.mass),
         cells: a.cells,
-        ppc: a.ppc,
+        ppc: a.ppc(),
         dt: a.dt,
         steps: a.steps,
         time: sim.time,

@@ -59,9 +59,15 @@ impl NeoHookean {
     /// Cauchy stress σ = (λ ln J / J) I + (μ / J)(F Fᵀ − I), MLS paper Eq. (41).
     pub fn cauchy_stress(&self, f: &Matrix2<f64>) -> Result<Matrix2<f64>> {
         let j = Self::jacobian(f)?;
+        Ok(self.cauchy_stress_given_jacobian(f, j))
+    }
+
+    /// [`NeoHookean::cauchy_stress`] for a J = det F > 0 the caller has
+    /// already checked with [`NeoHookean::jacobian`] (the step does, once
+    /// per particle).
+    pub fn cauchy_stress_given_jacobian(&self, f: &Matrix2<f64>, j: f64) -> Matrix2<f64> {
         let b = f * f.transpose();
-        Ok(Matrix2::identity() * (self.lambda * j.ln() / j)
-            + (b - Matrix2::identity()) * (self.mu / j))
+        Matrix2::identity() * (self.lambda * j.ln() / j) + (b - Matrix2::identity()) * (self.mu / j)
     }
 
     /// First Piola–Kirchhoff stress P = μ (F − F⁻ᵀ) + λ ln(J) F⁻ᵀ = J σ F⁻ᵀ

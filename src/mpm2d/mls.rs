@@ -25,12 +25,12 @@
 //! Items: [`MlsShapes`], [`GaussGrid`].
 
 use crate::error::{Error, Result};
-use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
+use crate::reconstruct::mls::MLS_MAX_CONDITION;
 use nalgebra::Matrix3;
 
 /// The MLS shape functions φ_gp of every Gauss point, as flat lists
-/// (`start[g] .. start[g + 1]` index `particle` and `phi`), with the
-/// buffers of the neighbour search. Allocated once per simulation.
+/// (`start[g] .. end[g]` index `particle` and `phi`), with the buffers of
+/// the neighbour search. Allocated once per simulation.
 #[derive(Debug, Clone, Default)]
 pub struct MlsShapes {
     /// s: the weight's argument is r = |x − x_p| / (s·h).
@@ -43,10 +43,15 @@ pub struct MlsShapes {
     pub phi: Vec<f64>,
     /// The largest κ₁(A) met in the last evaluation.
     pub largest_condition: f64,
+    /// Where the list of Gauss point g ends (the lists are stored cell by
+    /// cell, the four points of a cell together).
+    pub end: Vec<usize>,
     bin_start: Vec<usize>,
     bin_particles: Vec<u32>,
-    weight: Vec<f64>,
-    offset: Vec<[f64; 2]>,
+    /// (particle, w, scaled offset) gathered for the four points of a cell.
+    local: [Vec<(u32, f64, [f64; 2])>; 4],
+    /// How many entries of each `local` list are kept.
+    count: [usize; 4],
 }
 
 /// The Gauss points of the grid: 2·cells abscissae per axis, g = gx + n·gy.
@@ -83,10 +88,11 @@ impl MlsShapes {
             particle: Vec::with_capacity(gauss_points * per_point),
             phi: Vec::with_capacity(gauss_points * per_point),
             largest_condition: 0.0,
+            end: vec![0; gauss_points],
             bin_start: vec![0; cells * cells + 1],
             bin_particles: vec![0; particles],
-            weight: Vec::with_capacity(4 * per_point),
-            offset: Vec::with_capacity(4 * per_point),
+            local: std::array::from_fn(|_| vec![(0, 0.0, [0.0; 2]); 4 * per_point]),
+            count: [0; 4],
         })
     }
 
@@ -116,6 +122,12 @@ impl MlsShapes {
     /// φ_gp for every Gauss point g and particle p in its support (MLS paper
     /// Eq. 14), from the particles' positions `x`, `y` and cells `cell_x`,
     /// `cell_y`. Errors for a singular moment matrix.
+    ///
+    /// The four Gauss points of a cell share one gathering of candidates
+    /// (the particles of the 5×5 cells around it, which hold every particle
+    /// within 1.5·s·h of any of them when s ≤ 1, and of more cells when s > 1),
+    /// and the weight w(r_x) w(r_y) is separable, so each candidate costs
+    /// four 1D weights for the four points.
     pub fn evaluate(
         &mut self,
         gauss: &GaussGrid,
@@ -130,60 +142,101 @@ impl MlsShapes {
         self.phi.clear();
         self.largest_condition = 0.0;
         let n = 2 * cells;
-        let scale = 1.0 / (self.support_scale * gauss.cell_size);
-        let reach = 1.5 * self.support_scale * gauss.cell_size;
-        for gy in 0..n {
-            for gx in 0..n {
-                let g = gx + n * gy;
-                self.start[g] = self.particle.len();
-                let xg = [gauss.abscissae[gx], gauss.abscissae[gy]];
-                self.gauss_point(xg, x, y, gauss, scale, reach)?;
-            }
-        }
-        self.start[n * n] = self.particle.len();
-        Ok(())
-    }
-
-    /// The cells whose particles can lie within `reach` of `c` on one axis.
-    fn cell_range(c: f64, reach: f64, h: f64, cells: usize) -> std::ops::RangeInclusive<usize> {
-        let lo = ((c - reach) / h).floor().max(0.0) as usize;
-        let hi = (((c + reach) / h).floor() as usize).min(cells - 1);
-        lo..=hi
-    }
-
-    /// Eqs. (10), (14), (16)–(17) at one Gauss point: gathers the particles
-    /// with w > 0, accumulates A, inverts it and appends φ_gp.
-    fn gauss_point(
-        &mut self,
-        xg: [f64; 2],
-        x: &[f64],
-        y: &[f64],
-        gauss: &GaussGrid,
-        scale: f64,
-        reach: f64,
-    ) -> Result<()> {
-        let (h, cells) = (gauss.cell_size, gauss.cells);
-        self.weight.clear();
-        self.offset.clear();
-        let mut a = Matrix3::zeros();
-        let first = self.particle.len();
-        for cy in Self::cell_range(xg[1], reach, h, cells) {
-            for cx in Self::cell_range(xg[0], reach, h, cells) {
-                let c = cx + cells * cy;
-                for &k in &self.bin_particles[self.bin_start[c]..self.bin_start[c + 1]] {
-                    let d = [
-                        (x[k as usize] - xg[0]) * scale,
-                        (y[k as usize] - xg[1]) * scale,
-                    ];
-                    let w = quadratic_spline_weight(d[0]) * quadratic_spline_weight(d[1]);
-                    if w > 0.0 {
-                        accumulate_moment(&mut a, w, d);
-                        self.particle.push(k);
-                        self.weight.push(w);
-                        self.offset.push(d);
+        for cy in 0..cells {
+            for cx in 0..cells {
+                self.gather(gauss, [cx, cy], x, y);
+                for (j, gy) in [2 * cy, 2 * cy + 1].into_iter().enumerate() {
+                    for (i, gx) in [2 * cx, 2 * cx + 1].into_iter().enumerate() {
+                        let g = gx + n * gy;
+                        self.start[g] = self.particle.len();
+                        let xg = [gauss.abscissae[gx], gauss.abscissae[gy]];
+                        self.gauss_point(xg, 2 * j + i)?;
+                        self.end[g] = self.particle.len();
                     }
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// Collects, for the four Gauss points of cell (cx, cy), the particles
+    /// with w > 0: `local[q]` holds (particle, w, offset) of point q = 2j + i.
+    fn gather(&mut self, gauss: &GaussGrid, cell: [usize; 2], x: &[f64], y: &[f64]) {
+        let (h, cells) = (gauss.cell_size, gauss.cells);
+        let scale = 1.0 / (self.support_scale * h);
+        let reach = 1.5 * self.support_scale * h;
+        let gx = [
+            gauss.abscissae[2 * cell[0]],
+            gauss.abscissae[2 * cell[0] + 1],
+        ];
+        let gy = [
+            gauss.abscissae[2 * cell[1]],
+            gauss.abscissae[2 * cell[1] + 1],
+        ];
+        let xr = Self::cell_range(gx[0] - reach, gx[1] + reach, h, cells);
+        let yr = Self::cell_range(gy[0] - reach, gy[1] + reach, h, cells);
+        // Every candidate is written to all four lists and kept where w > 0
+        // (a branch-free compaction: about half of the candidates fall
+        // outside each support, which a branch would mispredict).
+        let candidates: usize = yr
+            .clone()
+            .map(|cy| {
+                self.bin_start[cy * cells + xr.end() + 1] - self.bin_start[cy * cells + xr.start()]
+            })
+            .sum();
+        for l in self.local.iter_mut() {
+            if l.len() < candidates {
+                l.resize(candidates, (0, 0.0, [0.0; 2]));
+            }
+        }
+        self.count = [0; 4];
+        for cy in yr {
+            let row = cy * cells;
+            for &k in &self.bin_particles
+                [self.bin_start[row + xr.start()]..self.bin_start[row + xr.end() + 1]]
+            {
+                let (px, py) = (x[k as usize], y[k as usize]);
+                let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
+                let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
+                let wx = dx.map(weight);
+                let wy = dy.map(weight);
+                for j in 0..2 {
+                    for i in 0..2 {
+                        let q = 2 * j + i;
+                        let w = wx[i] * wy[j];
+                        self.local[q][self.count[q]] = (k, w, [dx[i], dy[j]]);
+                        self.count[q] += usize::from(w > 0.0);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Gauss points (gx, gy) in the order their lists are stored: cell
+    /// by cell, the four points of a cell together. Reading the lists in
+    /// this order reads `particle` and `phi` front to back.
+    pub fn storage_order(cells: usize) -> impl Iterator<Item = (usize, usize)> {
+        (0..cells).flat_map(move |cy| {
+            (0..cells).flat_map(move |cx| {
+                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| (2 * cx + i, 2 * cy + j))
+            })
+        })
+    }
+
+    /// The cells a reach [lo, hi] on one axis touches.
+    fn cell_range(lo: f64, hi: f64, h: f64, cells: usize) -> std::ops::RangeInclusive<usize> {
+        let first = (lo / h).floor().max(0.0) as usize;
+        let last = ((hi / h).floor().max(0.0) as usize).min(cells - 1);
+        first..=last
+    }
+
+    /// Eqs. (10), (14), (16)–(17) at one Gauss point from its gathered
+    /// particles `local[q]`: accumulates A, inverts it and appends φ_gp.
+    fn gauss_point(&mut self, xg: [f64; 2], q: usize) -> Result<()> {
+        let mut a = Matrix3::zeros();
+        let gathered = &self.local[q][..self.count[q]];
+        for &(_, w, d) in gathered {
+            accumulate_moment(&mut a, w, d);
         }
         let first_row = inverse_first_row(&a).and_then(|(row, kappa)| {
             self.largest_condition = self.largest_condition.max(kappa);
@@ -194,13 +247,31 @@ impl MlsShapes {
                 "MLS moment matrix A at the Gauss point ({:.6}, {:.6}) is singular or has κ₁ > {MLS_MAX_CONDITION:e}: {} particles in its support",
                 xg[0],
                 xg[1],
-                self.particle.len() - first
+                self.count[q]
             )));
         };
-        for (w, d) in self.weight.iter().zip(&self.offset) {
+        for &(k, w, d) in &self.local[q][..self.count[q]] {
+            self.particle.push(k);
             self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));
         }
         Ok(())
+    }
+}
+
+/// [`crate::reconstruct::mls::quadratic_spline_weight`] (MLS paper Eq. 17) with the same operations
+/// and so the same numbers, written with a select instead of branches: the
+/// inner loop of the neighbour search evaluates it four times per
+/// candidate, and about half of the candidates are outside the support.
+#[inline]
+fn weight(d: f64) -> f64 {
+    let r = d.abs();
+    let inner = 0.75 - r * r;
+    let t = (1.5 - r).max(0.0);
+    let outer = 0.5 * t * t;
+    if r <= 0.5 {
+        inner
+    } else {
+        outer
     }
 }
 

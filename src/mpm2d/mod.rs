@@ -20,4 +20,4 @@ pub mod step;
 pub use grid::{Basis2d, Grid2d};
 pub use material::NeoHookean;
 pub use particles::Particles2d;
-pub use step::{BodyForce2d, Conservation2d, Mapping2d, Settings2d, Simulation2d};
+pub use step::{BodyForce2d, Conservation2d, Formulation, Mapping2d, Settings2d, Simulation2d};

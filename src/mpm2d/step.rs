@@ -29,21 +29,23 @@
 //! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
-//! Items: [`Mapping2d`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
-//! [`Conservation2d`], [`Simulation2d`], and the phase functions above.
+//! Items: [`Mapping2d`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
+//! [`Conservation2d`], [`Simulation2d`], the phase functions above, and
+//! [`map_direct_reference`] and [`update_deformation_reference`] of the
+//! total-Lagrangian reference.
 
 use super::grid::Grid2d;
 use super::material::NeoHookean;
 use super::mls::{GaussGrid, MlsShapes};
 use super::particles::Particles2d;
-use crate::basis::Stencils;
+use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::spline::bspline::SpanScratch;
 use nalgebra::Matrix2;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// How particle data reach the grid (MLS paper, "phase 1").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mapping2d {
     /// Particles as the quadrature points (standard MPM, BSMPM).
@@ -63,9 +65,26 @@ pub trait BodyForce2d: Send + Sync {
     fn fill(&self, time: f64, x0: &[[f64; 2]], out: &mut [[f64; 2]]);
 }
 
+/// The configuration the grid is attached to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Formulation {
+    /// The MLS paper's method: the basis is evaluated at the current
+    /// positions x_p^t every step, so particles cross cells (Eqs. 29–37).
+    UpdatedLagrangian,
+    /// hompm's reference without grid crossing: the basis is evaluated once
+    /// at the initial positions X_p and differentiated in X; the internal
+    /// force is −Σ_p V_p⁰ P_p ∇_X N_i = −Σ_p V_p σ_p F_p⁻ᵀ ∇_X N_i and
+    /// F_p ← F_p + Δt Σ_i v_i^L ⊗ ∇_X N_i (Ḟ = ∇_X v): a total-Lagrangian
+    /// finite-element method with particle quadrature. Direct mapping only.
+    TotalLagrangian,
+}
+
 /// What a 2D run needs besides its grid and particles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings2d {
+    /// Updated (the paper) or total Lagrangian (the reference).
+    pub formulation: Formulation,
     /// Direct or MLS mapping.
     pub mapping: Mapping2d,
     /// The material.
@@ -77,7 +96,7 @@ pub struct Settings2d {
 /// The largest relative mapping errors of a run: mass |Σ_i m_i − Σ_p m_p| /
 /// Σ_p m_p and momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, taken
 /// over every phase-1 mapping (before the wall conditions).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Conservation2d {
     /// Largest relative mass error.
     pub mass: f64,
@@ -105,6 +124,9 @@ pub struct Workspace2d {
     pub velocity: Vec<[f64; 2]>,
     /// The MLS shape functions, for the MLS mapping.
     pub mls: Option<MlsShapes>,
+    /// [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] per particle, the values
+    /// the MLS mapping carries to the Gauss points (Eqs. 18–21).
+    pub particle_values: Vec<[f64; 8]>,
 }
 
 /// A 2D simulation: grid, particles, settings, workspace and clock.
@@ -138,6 +160,13 @@ impl Simulation2d {
     ) -> Result<Self> {
         let n = particles.len();
         let nodes = grid.num_nodes();
+        if settings.formulation == Formulation::TotalLagrangian
+            && settings.mapping != Mapping2d::Direct
+        {
+            return Err(Error::InvalidArgument(
+                "the total-Lagrangian reference uses the direct mapping only".into(),
+            ));
+        }
         let mls = match settings.mapping {
             Mapping2d::Direct => None,
             Mapping2d::Mls | Mapping2d::MlsPhase1 => {
@@ -153,6 +182,11 @@ impl Simulation2d {
             momentum: vec![[0.0; 2]; nodes],
             force: vec![[0.0; 2]; nodes],
             velocity: vec![[0.0; 2]; nodes],
+            particle_values: if mls.is_some() {
+                vec![[0.0; 8]; n]
+            } else {
+                Vec::new()
+            },
             mls,
         };
         let mut sim = Self {
@@ -166,6 +200,9 @@ impl Simulation2d {
             conservation: Conservation2d::default(),
         };
         evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0)?;
+        if settings.formulation == Formulation::TotalLagrangian {
+            evaluate_basis_at_reference(&sim.grid, &sim.particles, &mut sim.workspace)?;
+        }
         Ok(sim)
     }
 
@@ -177,11 +214,15 @@ impl Simulation2d {
             )));
         }
         let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
-        evaluate_basis(grid, p, ws, self.steps)?;
+        let total = self.settings.formulation == Formulation::TotalLagrangian;
+        if !total {
+            evaluate_basis(grid, p, ws, self.steps)?;
+        }
         if let Some(b) = &self.body_force {
             b.fill(self.time, &p.x0, &mut ws.body_force);
         }
         match self.settings.mapping {
+            Mapping2d::Direct if total => map_direct_reference(grid, p, ws)?,
             Mapping2d::Direct => map_direct(grid, p, ws),
             Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
         }
@@ -189,8 +230,13 @@ impl Simulation2d {
         nodal_update(grid, ws, dt);
         update_particles(grid, p, ws, dt);
         end_of_step_velocity(grid, p, ws, self.settings.mapping);
-        update_deformation(grid, p, ws, &self.settings.material, dt)
-            .map_err(|e| at_step(e, self.steps + 1, self.time + dt))?;
+        let material = &self.settings.material;
+        if total {
+            update_deformation_reference(grid, p, ws, material, dt)
+        } else {
+            update_deformation(grid, p, ws, material, dt)
+        }
+        .map_err(|e| at_step(e, self.steps + 1, self.time + dt))?;
         self.steps += 1;
         self.time += dt;
         Ok(())
@@ -242,6 +288,17 @@ pub fn evaluate_basis(
     Ok(())
 }
 
+/// The stencils at the initial positions X_p, once, for the
+/// total-Lagrangian reference ([`Formulation::TotalLagrangian`]).
+fn evaluate_basis_at_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+    let xs: Vec<f64> = p.x0.iter().map(|x| x[0]).collect();
+    let ys: Vec<f64> = p.x0.iter().map(|x| x[1]).collect();
+    grid.axis()
+        .fill_stencils(&xs, &mut ws.along_x, &mut ws.scratch)?;
+    grid.axis()
+        .fill_stencils(&ys, &mut ws.along_y, &mut ws.scratch)
+}
+
 fn clear_nodes(ws: &mut Workspace2d) {
     ws.mass.iter_mut().for_each(|m| *m = 0.0);
     ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
@@ -253,29 +310,74 @@ fn clear_nodes(ws: &mut Workspace2d) {
 /// (MLS paper Eqs. 22–26 with ρ ω → m_p at x_p).
 pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
     clear_nodes(ws);
+    let stress = |k: usize| p.stress[k] * p.volume[k];
+    with_width!(
+        grid.stencil_width(),
+        map_direct_with::<W>(grid, p, ws, stress)
+    );
+}
+
+/// [`map_direct`] of the total-Lagrangian reference ([`Formulation`]): the
+/// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
+/// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ.
+pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+    clear_nodes(ws);
+    if let Some(k) = (0..p.len()).find(|&k| p.deformation[k].try_inverse().is_none()) {
+        return Err(Error::BlowUp(format!("particle {k}: F is not invertible")));
+    }
+    let stress = |k: usize| {
+        let f_inv_t = p.deformation[k]
+            .try_inverse()
+            .unwrap_or_else(Matrix2::zeros)
+            .transpose();
+        p.stress[k] * f_inv_t * p.volume[k]
+    };
+    with_width!(
+        grid.stencil_width(),
+        map_direct_with::<W>(grid, p, ws, stress)
+    );
+    Ok(())
+}
+
+/// [`map_direct`] for stencil width `W` (0: any width), with the stress
+/// term V σ (or V⁰ P) of particle k given by `stress(k)`.
+fn map_direct_with<const W: usize>(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    stress: impl Fn(usize) -> Matrix2<f64>,
+) {
     let n = grid.nodes_per_side();
-    let w = grid.stencil_width();
+    let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
         let m = p.mass[k];
         let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
         let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
-        let s = p.stress[k] * p.volume[k];
-        let (vx, gx) = (sx.values_of(k), sx.gradients_of(k));
-        let (vy, gy) = (sy.values_of(k), sy.gradients_of(k));
+        let s = stress(k);
+        let (vx, gx) = (
+            &sx.values[k * w..(k + 1) * w],
+            &sx.gradients[k * w..(k + 1) * w],
+        );
+        let (vy, gy) = (
+            &sy.values[k * w..(k + 1) * w],
+            &sy.gradients[k * w..(k + 1) * w],
+        );
         for b in 0..w {
             let row = (sy.first[k] + b) * n + sx.first[k];
+            let (mass, momentum, force) = (
+                &mut ws.mass[row..row + w],
+                &mut ws.momentum[row..row + w],
+                &mut ws.force[row..row + w],
+            );
             for a in 0..w {
-                let i = row + a;
                 let nn = vx[a] * vy[b];
                 let dn = [gx[a] * vy[b], vx[a] * gy[b]];
-                ws.mass[i] += nn * m;
-                let mom = &mut ws.momentum[i];
-                mom[0] += nn * mv[0];
-                mom[1] += nn * mv[1];
-                let f = &mut ws.force[i];
-                f[0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
-                f[1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+                mass[a] += nn * m;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+                force[a][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+                force[a][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
             }
         }
     }
@@ -312,22 +414,31 @@ fn map_mls_with(
     mls.evaluate(&gauss, &p.x, &p.y, &ws.along_x.first, &ws.along_y.first)?;
     let omega = grid.gauss_weight();
     let ng = 2 * grid.cells();
-    for g in 0..ng * ng {
+    // The eight particle values of Eqs. (18)–(21), packed so that each
+    // (Gauss point, particle) pair reads one record.
+    for (k, d) in ws.particle_values.iter_mut().enumerate() {
+        let (rho, v, b, s) = (p.density[k], p.velocity[k], ws.body_force[k], &p.stress[k]);
+        *d = [
+            rho,
+            rho * v[0],
+            rho * v[1],
+            rho * b[0],
+            rho * b[1],
+            s[(0, 0)],
+            s[(1, 1)],
+            s[(0, 1)],
+        ];
+    }
+    for (gx, gy) in MlsShapes::storage_order(grid.cells()) {
+        let g = gx + ng * gy;
         let mut q = [0.0; 8];
-        for e in mls.start[g]..mls.start[g + 1] {
-            let (k, phi) = (mls.particle[e] as usize, mls.phi[e]);
-            let rho = p.density[k];
-            let s = &p.stress[k];
-            q[0] += phi * rho;
-            q[1] += phi * rho * p.velocity[k][0];
-            q[2] += phi * rho * p.velocity[k][1];
-            q[3] += phi * rho * ws.body_force[k][0];
-            q[4] += phi * rho * ws.body_force[k][1];
-            q[5] += phi * s[(0, 0)];
-            q[6] += phi * s[(1, 1)];
-            q[7] += phi * s[(0, 1)];
+        for e in mls.start[g]..mls.end[g] {
+            let (d, phi) = (&ws.particle_values[mls.particle[e] as usize], mls.phi[e]);
+            for (qi, di) in q.iter_mut().zip(d) {
+                *qi += phi * di;
+            }
         }
-        scatter_gauss_point(grid, g % ng, g / ng, &q.map(|v| v * omega), ws);
+        scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
     }
     Ok(())
 }
@@ -362,7 +473,7 @@ fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Conservation2d
         .mass
         .iter()
         .zip(&p.velocity)
-        .map(|(m, v)| m * v[0].hypot(v[1]))
+        .map(|(m, v)| m * (v[0] * v[0] + v[1] * v[1]).sqrt())
         .sum();
     let gm = ws
         .momentum
@@ -413,29 +524,43 @@ pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
     }
 }
 
-/// Σ_i N_i(x_p) q_i for particle k.
-fn interpolate(grid: &Grid2d, ws: &Workspace2d, k: usize, nodal: &[[f64; 2]]) -> [f64; 2] {
-    let n = grid.nodes_per_side();
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
-    let (vx, vy) = (sx.values_of(k), sy.values_of(k));
-    let mut s = [0.0; 2];
-    for (b, &nb) in vy.iter().enumerate() {
-        let row = (sy.first[k] + b) * n + sx.first[k];
-        for (a, &na) in vx.iter().enumerate() {
-            let q = nodal[row + a];
-            s[0] += na * nb * q[0];
-            s[1] += na * nb * q[1];
-        }
-    }
-    s
-}
-
 /// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
 /// x_p += Δt Σ_i N_i (mv)_i^{t+1}/m_i; u_p = x_p − X_p.
 pub fn update_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+    with_width!(
+        grid.stencil_width(),
+        update_particles_with::<W>(grid, p, ws, dt)
+    );
+}
+
+/// [`update_particles`] for stencil width `W` (0: any width): both sums
+/// of Eqs. (29)–(30) in one pass over the stencil.
+fn update_particles_with<const W: usize>(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    dt: f64,
+) {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let a = interpolate(grid, ws, k, &ws.force);
-        let v = interpolate(grid, ws, k, &ws.velocity);
+        let (vx, vy) = (
+            &sx.values[k * w..(k + 1) * w],
+            &sy.values[k * w..(k + 1) * w],
+        );
+        let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
+        for (b, &nb) in vy.iter().enumerate() {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let (acc, vel) = (&ws.force[row..row + w], &ws.velocity[row..row + w]);
+            for i in 0..w {
+                let nn = vx[i] * nb;
+                a[0] += nn * acc[i][0];
+                a[1] += nn * acc[i][1];
+                v[0] += nn * vel[i][0];
+                v[1] += nn * vel[i][1];
+            }
+        }
         p.velocity[k][0] += dt * a[0];
         p.velocity[k][1] += dt * a[1];
         p.x[k] += dt * v[0];
@@ -461,14 +586,14 @@ pub fn end_of_step_velocity(
             let s = grid.gauss_stencils();
             let ng = 2 * grid.cells();
             let omega = grid.gauss_weight();
-            for g in 0..ng * ng {
+            for (gx, gy) in MlsShapes::storage_order(grid.cells()) {
+                let g = gx + ng * gy;
                 let mut q = [0.0; 2];
-                for e in mls.start[g]..mls.start[g + 1] {
+                for e in mls.start[g]..mls.end[g] {
                     let (k, phi) = (mls.particle[e] as usize, mls.phi[e]);
                     q[0] += phi * p.density[k] * p.velocity[k][0];
                     q[1] += phi * p.density[k] * p.velocity[k][1];
                 }
-                let (gx, gy) = (g % ng, g / ng);
                 scatter_vector(
                     n,
                     s,
@@ -529,29 +654,69 @@ pub fn update_deformation(
     material: &NeoHookean,
     dt: f64,
 ) -> Result<()> {
+    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| (Matrix2::identity() + l * dt) * f;
+    with_width!(
+        grid.stencil_width(),
+        update_deformation_with::<W>(grid, p, ws, material, rule)
+    )
+}
+
+/// [`update_deformation`] of the total-Lagrangian reference: Ḟ = ∇_X v, so
+/// F_p ← F_p + Δt Σ_i v_i^L ⊗ ∇_X N_i(X_p).
+pub fn update_deformation_reference(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    dt: f64,
+) -> Result<()> {
+    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| f + l * dt;
+    with_width!(
+        grid.stencil_width(),
+        update_deformation_with::<W>(grid, p, ws, material, rule)
+    )
+}
+
+/// [`update_deformation`] for stencil width `W` (0: any width); `rule(L, F)`
+/// is the new F from the interpolated gradient L = Σ_i v_i ⊗ ∇N_i.
+fn update_deformation_with<const W: usize>(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    rule: impl Fn(Matrix2<f64>, Matrix2<f64>) -> Matrix2<f64>,
+) -> Result<()> {
     let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let (vx, gx) = (sx.values_of(k), sx.gradients_of(k));
-        let (vy, gy) = (sy.values_of(k), sy.gradients_of(k));
-        let mut l = Matrix2::zeros();
-        for b in 0..vy.len() {
+        let (vx, gx) = (
+            &sx.values[k * w..(k + 1) * w],
+            &sx.gradients[k * w..(k + 1) * w],
+        );
+        let (vy, gy) = (
+            &sy.values[k * w..(k + 1) * w],
+            &sy.gradients[k * w..(k + 1) * w],
+        );
+        let mut l = [0.0; 4];
+        for b in 0..w {
             let row = (sy.first[k] + b) * n + sx.first[k];
-            for a in 0..vx.len() {
-                let v = ws.velocity[row + a];
+            let vel = &ws.velocity[row..row + w];
+            for a in 0..w {
                 let dn = [gx[a] * vy[b], vx[a] * gy[b]];
-                l[(0, 0)] += v[0] * dn[0];
-                l[(0, 1)] += v[0] * dn[1];
-                l[(1, 0)] += v[1] * dn[0];
-                l[(1, 1)] += v[1] * dn[1];
+                l[0] += vel[a][0] * dn[0];
+                l[1] += vel[a][0] * dn[1];
+                l[2] += vel[a][1] * dn[0];
+                l[3] += vel[a][1] * dn[1];
             }
         }
-        let f = (Matrix2::identity() + l * dt) * p.deformation[k];
+        let l = Matrix2::new(l[0], l[1], l[2], l[3]);
+        let f = rule(l, p.deformation[k]);
         let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
         p.deformation[k] = f;
         p.volume[k] = j * p.volume0[k];
         p.density[k] = p.mass[k] / p.volume[k];
-        p.stress[k] = material.cauchy_stress(&f)?;
+        p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
         if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
             return Err(Error::BlowUp(format!(
                 "particle {k}: velocity ({:e}, {:e}) is not finite",

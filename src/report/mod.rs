@@ -17,13 +17,15 @@
 //! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
 //! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],
 //! [`speed_chart`], [`solver_table_charts`], [`solver_time_chart`],
-//! [`stability_chart`], [`write_charts`], [`studies_json`], [`build`],
-//! [`charts`].
+//! [`stability_chart`], [`write_charts`], [`mls_charts`], [`studies_json`],
+//! [`build`], [`LONGEST_TABLES`], [`charts`].
 
 pub mod charts;
 
 use crate::error::{Error, Result};
+use crate::scenes::aligned_vibration::{AlignedErrors, AlignedMethod};
 use crate::studies::failures::FailureCases;
+use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
 use crate::studies::report::{ConvergenceLine, ReportStudies};
 use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
 use crate::tables::{self, RunOptions, Status, TableReport};
@@ -83,16 +85,27 @@ pub fn run_tables(
         .iter()
         .map(|id| tables::find(id))
         .collect::<Result<_>>()?;
-    specs
+    // The longest tables start first, so that the others fill the other
+    // core while they run; the reports come back in `ids` order.
+    let mut order: Vec<usize> = (0..specs.len()).collect();
+    order.sort_by_key(|&i| !LONGEST_TABLES.contains(&specs[i].id));
+    let mut reports: Vec<(usize, Result<TableReport>)> = order
         .par_iter()
-        .map(|spec| {
+        .map(|&i| {
+            let spec = &specs[i];
             let t = std::time::Instant::now();
             let r = tables::run(spec, &options);
             progress(spec.id, t.elapsed().as_secs_f64());
-            r
+            (i, r)
         })
-        .collect()
+        .collect();
+    reports.sort_by_key(|(i, _)| *i);
+    reports.into_iter().map(|(_, r)| r).collect()
 }
+
+/// Tables that take most of `hompm reproduce` (mls-aligned: about two
+/// minutes of its one longest run), started before the others.
+pub const LONGEST_TABLES: [&str; 1] = ["mls-aligned"];
 
 /// The cells that reproduced, per table: the regression baseline.
 pub type Baseline = BTreeMap<String, Vec<[usize; 2]>>;
@@ -587,7 +600,204 @@ pub fn write_charts(dir: &Path, reports: &[TableReport], studies: &ReportStudies
     solver_table_charts(dir, reports)?;
     solver_time_chart(dir, &studies.solver_degrees, &studies.solvers)?;
     stability_chart(dir, &studies.stability, &studies.failures)?;
-    speed_chart(dir, &studies.speed)
+    speed_chart(dir, &studies.speed)?;
+    mls_charts(dir, reports)
+}
+
+/// The run of the aligned vibration as (x, y) points, if it reached T.
+fn aligned_points(
+    runs: &[RunOutcome],
+    method: AlignedMethod,
+    xy: impl Fn(&RunOutcome, &AlignedErrors) -> (f64, f64),
+) -> Vec<(f64, f64)> {
+    runs.iter()
+        .filter(|o| o.method == method)
+        .filter_map(|o| o.run.as_ref().map(|r| xy(o, &r.last)))
+        .collect()
+}
+
+/// The charts of `mls-aligned` (MLS paper Figs. 2–4 and beyond), from the
+/// study the table returned: convergence of u, v and σ, the displacement
+/// error against time on the finest grid, error against wall time, and
+/// (with `--full`) the PPC study. Nothing if the table was not run.
+pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
+    let Some(study) = reports
+        .iter()
+        .find(|r| r.id == "mls-aligned")
+        .and_then(|r| r.study.clone())
+    else {
+        return Ok(());
+    };
+    let study: AlignedStudy =
+        serde_json::from_value(study).map_err(|e| Error::Io(format!("mls-aligned study: {e}")))?;
+    let mut methods = mls_paper::METHODS.to_vec();
+    methods.push(AlignedMethod::TotalLagrangian { degree: 2 });
+    let runs: Vec<RunOutcome> = study
+        .convergence
+        .iter()
+        .chain(&study.reference)
+        .cloned()
+        .collect();
+    let stopped: Vec<String> = runs
+        .iter()
+        .filter(|o| o.run.is_none())
+        .map(|o| {
+            format!(
+                "{} at {} cells stopped (no point)",
+                o.method.label(),
+                o.cells
+            )
+        })
+        .collect();
+    type Quantity = (&'static str, &'static str, fn(&AlignedErrors) -> f64);
+    let quantities: [Quantity; 3] = [
+        ("displacement", "RMS displacement error at T [m]", |e| {
+            e.displacement
+        }),
+        ("velocity", "RMS velocity error at T [m/s]", |e| e.velocity),
+        ("stress", "RMS Cauchy stress error at T [Pa]", |e| e.stress),
+    ];
+    for (name, ylabel, f) in quantities {
+        let series = methods
+            .iter()
+            .enumerate()
+            .map(|(k, &m)| Series {
+                label: m.label(),
+                points: aligned_points(&runs, m, |o, e| (1.0 / o.cells as f64, f(e))),
+                style: Style::Line,
+                color: k,
+            })
+            .collect();
+        charts::write(dir, &format!("mls_convergence_{name}"), &Chart {
+            title: format!("Aligned vibration (MLS paper Figs. 2–4): {name} at T = {} s", study.options.steps as f64 * 1e-5),
+            x_label: "cell size h [m]".into(),
+            y_label: ylabel.into(),
+            log_x: true,
+            log_y: true,
+            series,
+            hlines: vec![],
+            footnotes: std::iter::once("E = 1e7 Pa, A = 0.1 m, 9 PPC, Δt = 1e-5 s; TL-FE is hompm's total-Lagrangian reference without grid crossing.".to_string()).chain(stopped.iter().cloned()).collect(),
+            x_categories: vec![],
+            x_range: None,
+            y_range: None,
+        })?;
+    }
+    let finest = study.options.sizes.iter().copied().max().unwrap_or(0);
+    let history = methods
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &m)| {
+            runs.iter()
+                .find(|o| o.method == m && o.cells == finest)
+                .and_then(|o| o.run.as_ref())
+                .map(|r| Series {
+                    label: m.label(),
+                    points: r
+                        .history
+                        .iter()
+                        .skip(1)
+                        .map(|e| (e.time, e.displacement))
+                        .collect(),
+                    style: Style::Line,
+                    color: k,
+                })
+        })
+        .collect();
+    charts::write(
+        dir,
+        "mls_error_history",
+        &Chart {
+            title: format!(
+                "Aligned vibration: displacement error against time, {finest}×{finest} cells"
+            ),
+            x_label: "time t [s]".into(),
+            y_label: "RMS displacement error [m]".into(),
+            log_x: false,
+            log_y: true,
+            series: history,
+            hlines: vec![],
+            footnotes: vec!["One period of sin(cπt/L) is 0.02 s.".into()],
+            x_categories: vec![],
+            x_range: None,
+            y_range: None,
+        },
+    )?;
+    let work = methods
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| Series {
+            label: m.label(),
+            points: runs
+                .iter()
+                .filter(|o| o.method == m)
+                .filter_map(|o| {
+                    o.run
+                        .as_ref()
+                        .map(|r| (r.seconds.max(1e-6), r.last.displacement))
+                })
+                .collect(),
+            style: Style::Line,
+            color: k,
+        })
+        .collect();
+    charts::write(dir, "mls_work_precision", &Chart {
+        title: "Aligned vibration: accuracy against cost (8 → finest cells)".into(),
+        x_label: "wall time of the run [s] (one core)".into(),
+        y_label: "RMS displacement error at T [m]".into(),
+        log_x: true,
+        log_y: true,
+        series: work,
+        hlines: vec![],
+        footnotes: vec!["Each point is one run of T/Δt steps; wall times from the reproduce run (two runs share the two cores).".into()],
+        x_categories: vec![],
+        x_range: None,
+        y_range: None,
+    })?;
+    if study.ppc.is_empty() {
+        return Ok(());
+    }
+    let ppc = mls_paper::METHODS[1..]
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| Series {
+            label: m.label(),
+            points: aligned_points(&study.ppc, m, |o, e| (o.ppc as f64, e.displacement)),
+            style: Style::Line,
+            color: k + 1,
+        })
+        .collect();
+    charts::write(
+        dir,
+        "mls_ppc",
+        &Chart {
+            title: format!(
+                "Aligned vibration: sensitivity to particles per cell, {0}×{0} cells",
+                study.options.ppc_cells
+            ),
+            x_label: "particles per cell".into(),
+            y_label: "RMS displacement error at T [m]".into(),
+            log_x: false,
+            log_y: true,
+            series: ppc,
+            hlines: vec![],
+            footnotes: study
+                .ppc
+                .iter()
+                .filter(|o| o.run.is_none())
+                .map(|o| {
+                    format!(
+                        "{} with {} PPC stopped: {}",
+                        o.method.label(),
+                        o.ppc,
+                        o.failure.clone().unwrap_or_default()
+                    )
+                })
+                .collect(),
+            x_categories: vec![],
+            x_range: None,
+            y_range: None,
+        },
+    )
 }
 
 /// The studies' results as report.json carries them, by name.
@@ -642,6 +852,7 @@ pub fn build(
         "book-4.3" => Some("solver_cg_iterations"),
         "book-4.4" => Some("solver_pmg_cycles"),
         "tls-fig6" => Some("convergence_displacement"),
+        "mls-aligned" => Some("mls_convergence_displacement"),
         _ => None,
     };
     let mut md =
@@ -653,7 +864,7 @@ pub fn build(
         if options.quick { ", quick mode: reduced sizes" } else { "" }
     );
     if options.only.is_empty() {
-        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n");
+        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n![MLS paper: displacement](charts/mls_convergence_displacement.svg)\n![MLS paper: velocity](charts/mls_convergence_velocity.svg)\n![MLS paper: stress](charts/mls_convergence_stress.svg)\n![MLS paper: error against time](charts/mls_error_history.svg)\n![MLS paper: work-precision](charts/mls_work_precision.svg)\n\n");
     }
     for r in &report.tables {
         md.push_str(&table_markdown(r, chart_of(&r.id)));

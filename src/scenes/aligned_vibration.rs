@@ -28,10 +28,12 @@
 //! [`AlignedMethod`], [`AlignedErrors`], [`AlignedRun`], [`ManufacturedForce`].
 
 use crate::error::{Error, Result};
-use crate::mpm2d::step::{BodyForce2d, Conservation2d, Mapping2d, Settings2d, Simulation2d};
+use crate::mpm2d::step::{
+    BodyForce2d, Conservation2d, Formulation, Mapping2d, Settings2d, Simulation2d,
+};
 use crate::mpm2d::{Basis2d, Grid2d, NeoHookean, Particles2d};
 use nalgebra::Matrix2;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// The parameters of the aligned vibration.
@@ -80,7 +82,7 @@ pub fn parameters(name: &str) -> Result<AlignedVibration> {
 }
 
 /// The three methods of the MLS paper's Figures 2–4.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum AlignedMethod {
     /// Bilinear MPM, direct mapping.
@@ -101,6 +103,13 @@ pub enum AlignedMethod {
         /// Degree p.
         degree: usize,
     },
+    /// hompm's reference without grid crossing: total-Lagrangian FE with
+    /// B-splines of a degree and particle quadrature
+    /// ([`Formulation::TotalLagrangian`]).
+    TotalLagrangian {
+        /// Degree p.
+        degree: usize,
+    },
 }
 
 impl AlignedMethod {
@@ -108,6 +117,9 @@ impl AlignedMethod {
     pub fn parts(self) -> (Basis2d, Mapping2d) {
         match self {
             AlignedMethod::Mpm => (Basis2d::Bilinear, Mapping2d::Direct),
+            AlignedMethod::TotalLagrangian { degree } => {
+                (Basis2d::BSpline { degree }, Mapping2d::Direct)
+            }
             AlignedMethod::Bsmpm { degree } => (Basis2d::BSpline { degree }, Mapping2d::Direct),
             AlignedMethod::BsmpmMls { degree } => (Basis2d::BSpline { degree }, Mapping2d::Mls),
             AlignedMethod::BsmpmMlsPhase1 { degree } => {
@@ -123,13 +135,14 @@ impl AlignedMethod {
             AlignedMethod::Bsmpm { degree } => format!("BSMPM-p{degree}"),
             AlignedMethod::BsmpmMls { degree } => format!("BSMPM-p{degree}-MLS"),
             AlignedMethod::BsmpmMlsPhase1 { degree } => format!("BSMPM-p{degree}-MLS-phase-1"),
+            AlignedMethod::TotalLagrangian { degree } => format!("TL-FE-p{degree}"),
         }
     }
 }
 
 /// RMS errors (MLS paper Eq. 43) at the particles at one time: ‖·‖ is the
 /// Euclidean norm for u and v and the Frobenius norm for σ.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct AlignedErrors {
     /// Time t.
     pub time: f64,
@@ -142,7 +155,7 @@ pub struct AlignedErrors {
 }
 
 /// The result of one run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AlignedRun {
     /// Method.
     pub method: AlignedMethod,
@@ -288,7 +301,12 @@ impl AlignedVibration {
                 self.velocity(x, 0.0)
             })?;
         let force = ManufacturedForce::new(*self, &particles.x0)?;
+        let formulation = match method {
+            AlignedMethod::TotalLagrangian { .. } => Formulation::TotalLagrangian,
+            _ => Formulation::UpdatedLagrangian,
+        };
         let settings = Settings2d {
+            formulation,
             mapping,
             material: self.material()?,
             mls_support,

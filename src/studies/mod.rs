@@ -12,9 +12,10 @@
 //! [`work_precision_variants`], [`WorkPoint`], [`work_precision`],
 //! [`speed_variants`], [`SpeedPoint`], [`speed`], [`SolverPoint`],
 //! [`solver_study`], [`StabilityPoint`], [`stability_map`], [`tls_example`],
-//! [`tls_paper`], [`failures`], [`report`].
+//! [`tls_paper`], [`mls_paper`], [`failures`], [`report`].
 
 pub mod failures;
+pub mod mls_paper;
 pub mod report;
 pub mod tls_example;
 pub mod tls_paper;

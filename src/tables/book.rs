@@ -120,6 +120,7 @@ fn table_4_2() -> TableSpec {
             Ok(Computed {
                 rows,
                 notes: vec![],
+                ..Default::default()
             })
         },
     }
@@ -159,7 +160,11 @@ fn table_4_3() -> TableSpec {
                 }
                 notes.push(format!("CG-variant spread, p = {p}: {}", parts.join(", ")));
             }
-            Ok(Computed { rows, notes })
+            Ok(Computed {
+                rows,
+                notes,
+                ..Default::default()
+            })
         },
     }
 }
@@ -196,7 +201,7 @@ fn table_4_4() -> TableSpec {
                     notes.push(format!("{name}: {}", text.join(" | ")));
                 }
             }
-            Ok(Computed { rows, notes })
+            Ok(Computed { rows, notes, ..Default::default() })
         },
     }
 }

@@ -94,8 +94,7 @@ fn compute(quick: bool) -> Result<Computed> {
             "Column compaction (rows 16–17): standard MPM run of tls-fig10; the 'maximal strain' is the \
              maximal |u_p| at the end of the run."
                 .into(),
-        ],
-    })
+        ], ..Default::default() })
 }
 
 /// The registered `thesis-facts` table.

@@ -21,10 +21,11 @@
 //! [`ToleranceRules`], [`Tolerance`], [`Status`],
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
-//! [`compare`], [`book`], [`facts`], [`thesis`], [`tls`].
+//! [`compare`], [`book`], [`facts`], [`mls`], [`thesis`], [`tls`].
 
 pub mod book;
 pub mod facts;
+pub mod mls;
 pub mod thesis;
 pub mod tls;
 
@@ -88,6 +89,8 @@ pub enum ToleranceKind {
     StatedOrder,
     /// The text says "more than".
     AtLeast,
+    /// A qualitative claim read as an upper bound (MLS paper, `mls-aligned`).
+    AtMost,
     /// A documented relative tolerance.
     Relative {
         /// The relative tolerance.
@@ -111,6 +114,7 @@ impl From<ToleranceKind> for Tolerance {
             ToleranceKind::ErrorRatio => Tolerance::ERROR_RATIO,
             ToleranceKind::StatedOrder => Tolerance::STATED_ORDER,
             ToleranceKind::AtLeast => Tolerance::AtLeast,
+            ToleranceKind::AtMost => Tolerance::AtMost,
             ToleranceKind::Relative { value } => Tolerance::Relative(value),
             ToleranceKind::Absolute { value } => Tolerance::Absolute(value),
         }
@@ -219,6 +223,8 @@ pub enum Tolerance {
     Absolute(f64),
     /// computed ≥ published (the text says "more than").
     AtLeast,
+    /// computed ≤ published (a claim read as an upper bound).
+    AtMost,
 }
 
 impl Tolerance {
@@ -245,6 +251,7 @@ impl Tolerance {
             Tolerance::Relative(tol) => (computed - published).abs() <= tol * published.abs(),
             Tolerance::Absolute(tol) => (computed - published).abs() <= tol,
             Tolerance::AtLeast => computed >= published,
+            Tolerance::AtMost => computed <= published,
             Tolerance::MachinePrecision => {
                 let c = computed.abs().max(1e-300);
                 let p = published.abs().max(1e-300);
@@ -271,6 +278,8 @@ pub enum Status {
 pub struct RunOptions {
     /// Reduced sizes for smoke tests.
     pub quick: bool,
+    /// The largest sizes and the extra studies (`hompm reproduce --full`).
+    pub full: bool,
 }
 
 /// One computed row, named by the label of the published row it fills.
@@ -285,6 +294,9 @@ pub struct Computed {
     pub rows: Vec<LabelledRow>,
     /// Free-text findings shown under the table (spreads, alternatives, …).
     pub notes: Vec<String>,
+    /// The study behind the table, for the report's charts (only tables
+    /// whose charts need more than the table: `mls-aligned`).
+    pub study: Option<serde_json::Value>,
 }
 
 impl Computed {
@@ -294,6 +306,7 @@ impl Computed {
         Self {
             rows: Vec::new(),
             notes: vec!["not computed with --quick".into()],
+            study: None,
         }
     }
 
@@ -347,6 +360,9 @@ pub struct TableReport {
     pub tolerance: Vec<Vec<Tolerance>>,
     /// Findings.
     pub notes: Vec<String>,
+    /// The study behind the table, when its charts need it (`mls-aligned`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub study: Option<serde_json::Value>,
 }
 
 impl TableReport {
@@ -430,6 +446,7 @@ pub fn registry() -> Vec<TableSpec> {
     all.extend(thesis::tables());
     all.push(thesis::appendix_a1());
     all.push(facts::table());
+    all.push(mls::aligned());
     all
 }
 
@@ -549,5 +566,6 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         status,
         tolerance,
         notes: computed.notes,
+        study: computed.study,
     })
 }

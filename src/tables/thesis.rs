@@ -41,6 +41,7 @@ fn compute_a1(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows,
         notes: vec![],
+        ..Default::default()
     })
 }
 
@@ -200,6 +201,7 @@ fn linear_lagrange_rms(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: rms_grid(ThesisVariant::LinearLagrange)?,
         notes: vec![],
+        ..Default::default()
     })
 }
 
@@ -207,6 +209,7 @@ fn bspline_rms(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: rms_grid(ThesisVariant::BSpline)?,
         notes: vec![],
+        ..Default::default()
     })
 }
 
@@ -246,6 +249,7 @@ fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: rms_grid(ThesisVariant::SplineBased)?,
         notes,
+        ..Default::default()
     })
 }
 
@@ -253,6 +257,7 @@ fn linear_lagrange_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: order_grid(ThesisVariant::LinearLagrange)?,
         notes: vec![],
+        ..Default::default()
     })
 }
 
@@ -260,6 +265,7 @@ fn bspline_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: order_grid(ThesisVariant::BSpline)?,
         notes: vec![],
+        ..Default::default()
     })
 }
 
@@ -267,6 +273,7 @@ fn spline_based_orders(_: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: order_grid(ThesisVariant::SplineBased)?,
         notes: vec![],
+        ..Default::default()
     })
 }
 

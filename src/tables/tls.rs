@@ -119,7 +119,11 @@ fn tls_1() -> TableSpec {
             } else {
                 spread_notes()?
             };
-            Ok(Computed { rows, notes })
+            Ok(Computed {
+                rows,
+                notes,
+                ..Default::default()
+            })
         },
     }
 }
@@ -152,7 +156,11 @@ fn book_example() -> TableSpec {
             } else {
                 spread_notes()?
             };
-            Ok(Computed { rows, notes })
+            Ok(Computed {
+                rows,
+                notes,
+                ..Default::default()
+            })
         },
     }
 }
@@ -191,8 +199,7 @@ fn tls_3() -> TableSpec {
                      against the exact ∫ρv (1.7849e-6 at t = 0): the spline integral is nearly exact, the particle \
                      sum is not."
                         .into(),
-                ],
-            })
+                ], ..Default::default() })
         },
     }
 }
@@ -230,7 +237,7 @@ fn tls_fig6() -> TableSpec {
                     e[3].stress
                 ));
             }
-            Ok(Computed { rows, notes })
+            Ok(Computed { rows, notes, ..Default::default() })
         },
     }
 }
@@ -274,6 +281,7 @@ fn tls_fig10() -> TableSpec {
             Ok(Computed {
                 rows,
                 notes: vec![],
+                ..Default::default()
             })
         },
     }
@@ -294,6 +302,7 @@ fn tls_7() -> TableSpec {
             Ok(Computed {
                 rows,
                 notes: vec![],
+                ..Default::default()
             })
         },
     }
@@ -310,7 +319,7 @@ fn tls_5() -> TableSpec {
             let rows = conservation_rows(conservation_by_mapping(|m, map| {
                 conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000)
             })?);
-            Ok(Computed { rows, notes: vec![] })
+            Ok(Computed { rows, notes: vec![], ..Default::default() })
         },
     }
 }
@@ -333,8 +342,7 @@ fn book_4_5_large() -> TableSpec {
             let (mpm, tls) = (e[&variants[0]], e[&variants[1]]);
             Ok(Computed {
                 rows: vec![Computed::row("TLS-BSMPM, consistent mass", [m, p, mpm / tls])],
-                notes: vec![format!("relative L2 stress errors against ULFEM with 120 DOFs (the book's reference): MPM {mpm:.4e}, TLS-BSMPM {tls:.4e}")],
-            })
+                notes: vec![format!("relative L2 stress errors against ULFEM with 120 DOFs (the book's reference): MPM {mpm:.4e}, TLS-BSMPM {tls:.4e}")], ..Default::default() })
         },
     }
 }
@@ -363,8 +371,7 @@ fn tls_fig9() -> TableSpec {
             let e: HashMap<_, _> = e.into_iter().collect();
             Ok(Computed {
                 rows: rows.iter().map(|&(m, map)| Computed::row(variant_label(m, map), [e[&mpm] / e[&(m, map)]])).collect(),
-                notes: vec![format!("relative L2 stress errors: {}", notes.join(", "))],
-            })
+                notes: vec![format!("relative L2 stress errors: {}", notes.join(", "))], ..Default::default() })
         },
     }
 }

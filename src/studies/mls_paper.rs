@@ -1,0 +1,245 @@
+//! # The MLS paper's study: convergence of MPM, BSMPM and BSMPM with MLS
+//!
+//! MLS paper Figs. 2–4: RMS errors (Eq. 43) of displacement, velocity and
+//! stress at T on 8, 16, 32 and 64 cells per direction, 9 particles per
+//! cell, for the three methods on the aligned vibration. Beyond the paper:
+//! the errors as functions of time, the sensitivity of MLS to the number of
+//! particles per cell (4, 9, 16; the paper's conclusion), the mapping errors
+//! of mass and momentum (as TLS paper Table 3 does in 1D), the cost per
+//! particle-step, the other reading of E, and hompm's diagnostic variant
+//! with MLS in phase 1 only.
+//!
+//! Every run is independent and single-threaded; rayon runs them two at a
+//! time on two cores, longest first. The results are in input order, so the
+//! numbers do not depend on the scheduling (the wall times do).
+//!
+//! Items: [`AlignedStudyOptions`], [`RunOutcome`], [`AlignedStudy`],
+//! [`aligned_study`], [`METHODS`].
+
+use crate::error::Result;
+use crate::scenes::aligned_vibration::{parameters, AlignedMethod, AlignedRun, AlignedVibration};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The three methods of the paper's figures (quadratic B-splines).
+pub const METHODS: [AlignedMethod; 3] = [
+    AlignedMethod::Mpm,
+    AlignedMethod::Bsmpm { degree: 2 },
+    AlignedMethod::BsmpmMls { degree: 2 },
+];
+
+/// What to run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AlignedStudyOptions {
+    /// Cells per direction of the convergence study.
+    pub sizes: Vec<usize>,
+    /// Steps per run (T/Δt = 20 000 for the paper).
+    pub steps: usize,
+    /// Errors are recorded every this many steps.
+    pub record_every: usize,
+    /// Particles per side of a cell for the PPC study (empty: no study).
+    pub ppc_per_side: Vec<usize>,
+    /// Cells per direction of the PPC study.
+    pub ppc_cells: usize,
+    /// Sizes run with the other reading of E (empty: none).
+    pub other_young_sizes: Vec<usize>,
+    /// Sizes run with MLS in phase 1 only (empty: none).
+    pub phase1_sizes: Vec<usize>,
+    /// Sizes run with the total-Lagrangian reference (no grid crossing).
+    pub reference_sizes: Vec<usize>,
+}
+
+impl AlignedStudyOptions {
+    /// `hompm reproduce`: 8, 16 and 32 cells, the paper's T, and the
+    /// diagnostic variant on the same sizes.
+    pub fn default_run() -> Self {
+        Self {
+            sizes: vec![8, 16, 32],
+            steps: 20_000,
+            record_every: 500,
+            ppc_per_side: Vec::new(),
+            ppc_cells: 16,
+            other_young_sizes: Vec::new(),
+            phase1_sizes: vec![8, 16],
+            reference_sizes: vec![8, 16, 32],
+        }
+    }
+
+    /// `hompm reproduce --full`: adds 64 cells, the PPC study at 16 cells and
+    /// E = 1e8 Pa on 8–32 cells.
+    pub fn full_run() -> Self {
+        Self {
+            sizes: vec![8, 16, 32, 64],
+            ppc_per_side: vec![2, 3, 4],
+            other_young_sizes: vec![8, 16, 32],
+            phase1_sizes: vec![8, 16, 32],
+            reference_sizes: vec![8, 16, 32, 64],
+            ..Self::default_run()
+        }
+    }
+
+    /// `--quick`: 4 and 8 cells for 400 steps (a smoke test of the pipeline).
+    pub fn quick_run() -> Self {
+        Self {
+            sizes: vec![4, 8],
+            steps: 400,
+            record_every: 100,
+            ppc_per_side: vec![2, 3],
+            ppc_cells: 4,
+            other_young_sizes: Vec::new(),
+            phase1_sizes: vec![4],
+            reference_sizes: vec![4, 8],
+        }
+    }
+}
+
+/// One run: its parameters and either its result or why it stopped.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunOutcome {
+    /// Parameter set.
+    pub parameter_set: String,
+    /// Method.
+    pub method: AlignedMethod,
+    /// Cells per direction.
+    pub cells: usize,
+    /// Particles per cell.
+    pub ppc: usize,
+    /// The run, if it reached T.
+    pub run: Option<AlignedRun>,
+    /// The error that stopped it, if any.
+    pub failure: Option<String>,
+}
+
+/// Everything the table and the charts show.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AlignedStudy {
+    /// The options run.
+    pub options: AlignedStudyOptions,
+    /// The paper's study (E = 1e7 Pa): every method on every size, 9 PPC.
+    pub convergence: Vec<RunOutcome>,
+    /// BSMPM and BSMPM with MLS at 4, 9, 16 PPC.
+    pub ppc: Vec<RunOutcome>,
+    /// The three methods with E = 1e8 Pa.
+    pub other_young: Vec<RunOutcome>,
+    /// MLS in phase 1 only.
+    pub phase1: Vec<RunOutcome>,
+    /// The total-Lagrangian reference (quadratic B-splines, no grid
+    /// crossing): whether the manufactured solution is still followed at T.
+    pub reference: Vec<RunOutcome>,
+}
+
+impl AlignedStudy {
+    /// The convergence run of `method` on `cells` cells, if it reached T.
+    pub fn run(&self, method: AlignedMethod, cells: usize) -> Option<&AlignedRun> {
+        self.convergence
+            .iter()
+            .find(|o| o.method == method && o.cells == cells)
+            .and_then(|o| o.run.as_ref())
+    }
+}
+
+struct Job {
+    set: &'static str,
+    method: AlignedMethod,
+    cells: usize,
+    per_side: usize,
+    group: usize,
+}
+
+fn outcome(job: &Job, scene: &AlignedVibration, o: &AlignedStudyOptions) -> RunOutcome {
+    let result = scene.run(job.method, job.cells, job.per_side, o.steps, o.record_every);
+    RunOutcome {
+        parameter_set: job.set.into(),
+        method: job.method,
+        cells: job.cells,
+        ppc: job.per_side * job.per_side,
+        failure: result.as_ref().err().map(|e| e.to_string()),
+        run: result.ok(),
+    }
+}
+
+fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    let mut add = |set, methods: &[AlignedMethod], sizes: &[usize], per_side: &[usize], group| {
+        for &cells in sizes {
+            for &method in methods {
+                for &ps in per_side {
+                    jobs.push(Job {
+                        set,
+                        method,
+                        cells,
+                        per_side: ps,
+                        group,
+                    });
+                }
+            }
+        }
+    };
+    add("mls-paper-e1e7", &METHODS, &o.sizes, &[3], 0);
+    add(
+        "mls-paper-e1e7",
+        &METHODS[1..],
+        &[o.ppc_cells],
+        &o.ppc_per_side,
+        1,
+    );
+    add("mls-paper-e1e8", &METHODS, &o.other_young_sizes, &[3], 2);
+    add(
+        "mls-paper-e1e7",
+        &[AlignedMethod::BsmpmMlsPhase1 { degree: 2 }],
+        &o.phase1_sizes,
+        &[3],
+        3,
+    );
+    add(
+        "mls-paper-e1e7",
+        &[AlignedMethod::TotalLagrangian { degree: 2 }],
+        &o.reference_sizes,
+        &[3],
+        4,
+    );
+    jobs
+}
+
+/// Runs the study: all jobs in parallel (longest first), results in input
+/// order.
+pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
+    let scenes = [parameters("mls-paper-e1e7")?, parameters("mls-paper-e1e8")?];
+    let jobs = jobs(o);
+    let cost = |j: &Job| {
+        let per = match j.method {
+            AlignedMethod::Mpm => 1.0,
+            AlignedMethod::Bsmpm { .. } => 2.0,
+            _ => 8.0,
+        };
+        per * (j.cells * j.cells * j.per_side * j.per_side) as f64
+    };
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by(|&a, &b| cost(&jobs[b]).total_cmp(&cost(&jobs[a])));
+    let mut results: Vec<(usize, RunOutcome)> = order
+        .par_iter()
+        .map(|&i| {
+            let j = &jobs[i];
+            let scene = if j.set == "mls-paper-e1e8" {
+                &scenes[1]
+            } else {
+                &scenes[0]
+            };
+            (i, outcome(j, scene, o))
+        })
+        .collect();
+    results.sort_by_key(|(i, _)| *i);
+    let mut groups: [Vec<RunOutcome>; 5] = Default::default();
+    for (i, r) in results {
+        groups[jobs[i].group].push(r);
+    }
+    let [convergence, ppc, other_young, phase1, reference] = groups;
+    Ok(AlignedStudy {
+        options: o.clone(),
+        convergence,
+        ppc,
+        other_young,
+        phase1,
+        reference,
+    })
+}
