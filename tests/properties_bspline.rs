@@ -280,3 +280,77 @@ fn malformed_knot_vectors_are_rejected() {
         Err(Error::InvalidDegree(_))
     ));
 }
+
+/// Book Eq. (4.23) applied k times, literally: the k-th derivative of
+/// φ_{i,p} from the (k−1)-th derivatives of φ_{i,p−1} and φ_{i+1,p−1}, with
+/// the 0/0 := 0 convention of the recursion.
+fn literal_derivative(kv: &KnotVector, i: usize, p: usize, k: usize, x: f64) -> f64 {
+    if k == 0 {
+        return cox_de_boor(kv, i, p, x).unwrap();
+    }
+    let t = kv.knots();
+    let pf = p as f64;
+    let mut d = 0.0;
+    if t[i + p] > t[i] {
+        d += pf / (t[i + p] - t[i]) * literal_derivative(kv, i, p - 1, k - 1, x);
+    }
+    if t[i + p + 1] > t[i + 1] {
+        d -= pf / (t[i + p + 1] - t[i + 1]) * literal_derivative(kv, i + 1, p - 1, k - 1, x);
+    }
+    d
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Every derivative up to order p of the span evaluator (NURBS Book
+    /// A2.3) equals Eq. (4.23) applied repeatedly, on non-uniform knots with
+    /// repeated interior knots.
+    #[test]
+    fn all_derivatives_match_the_repeated_literal_formula(kv in open_knots(6, 0.05), f in fractions()) {
+        let p = kv.degree();
+        for x in sample_points(&kv, &f) {
+            let loc = kv.local_basis(x, p).unwrap();
+            for k in 0..=p {
+                let fast = loc.dense(k, kv.num_basis());
+                let literal: Vec<f64> = (0..kv.num_basis())
+                    .map(|i| literal_derivative(&kv, i, p, k, x))
+                    .collect();
+                let scale = literal.iter().map(|v| v.abs()).fold(1.0, f64::max);
+                for i in 0..kv.num_basis() {
+                    prop_assert!((fast[i] - literal[i]).abs() <= 1e-9 * scale,
+                        "d^{k} φ_{i} at {x} (p = {p}): {} vs {}", fast[i], literal[i]);
+                }
+            }
+        }
+    }
+}
+
+/// The literal recursion refuses an index past the last function, and the
+/// closed-span evaluator refuses spans that are empty or outside the
+/// domain and points outside the span, but accepts the span's right end.
+#[test]
+fn out_of_range_indices_spans_and_points_are_refused() {
+    let kv = KnotVector::new(vec![0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0, 3.0, 3.0], 2).unwrap();
+    let n = kv.num_basis();
+    assert!(cox_de_boor(&kv, n - 1, 2, 2.5).is_ok());
+    assert!(cox_de_boor(&kv, n, 2, 2.5).is_err());
+    assert!(cox_de_boor(&kv, n - 1, 3, 2.5).is_err());
+    // Spans: 2 = [0, 1), 3 = [1, 1) empty, 4 = [1, 2), 5 = [2, 3].
+    assert!(kv.local_basis_on_span(1, 0.5, 1).is_err()); // below the degree
+    assert!(kv.local_basis_on_span(3, 1.0, 1).is_err()); // empty span
+    assert!(kv.local_basis_on_span(n, 2.5, 1).is_err()); // past the last
+    assert!(kv.local_basis_on_span(2, 1.5, 1).is_err()); // x right of the span
+    assert!(kv.local_basis_on_span(4, 0.5, 1).is_err()); // x left of the span
+    assert!(kv.local_basis_on_span(4, f64::NAN, 1).is_err());
+    // Both ends of a span are accepted; at the right end it is the left limit.
+    let left = kv.local_basis_on_span(2, 1.0, 0).unwrap();
+    assert_eq!(left.first, 0);
+    let dense = left.dense(0, n);
+    assert_relative_eq!(dense.iter().sum::<f64>(), 1.0, epsilon = 1e-14);
+    // φ_2 on [0, 1) is x²: its left limit at 1 is 1 (it is 0 from the right,
+    // the knot 1 having multiplicity 2 = p).
+    assert_relative_eq!(dense[2], 1.0, epsilon = 1e-14);
+    assert!(kv.local_basis_on_span(2, 0.0, 0).is_ok());
+    assert!(kv.local_basis_on_span(5, 3.0, 0).is_ok());
+}
