@@ -112,3 +112,25 @@ fn reconstruction_allocations_do_not_grow_with_the_number_of_steps() {
         );
     }
 }
+
+/// The 2D step of the MLS paper allocates nothing once warm: direct
+/// mappings (MPM, BSMPM, the total-Lagrangian reference) and the MLS
+/// mapping, whose lists only grow when a Gauss point gathers more particles
+/// than ever before (MLS paper Eqs. 18–37).
+#[test]
+fn a_steady_2d_step_allocates_nothing() {
+    use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
+    let scene = parameters("mls-paper-e1e7").unwrap();
+    for method in [
+        AlignedMethod::Mpm,
+        AlignedMethod::Bsmpm { degree: 2 },
+        AlignedMethod::BsmpmMls { degree: 2 },
+        AlignedMethod::TotalLagrangian { degree: 2 },
+    ] {
+        let mut sim = scene.simulation(method, 4, 3, 1.0).unwrap();
+        sim.run(scene.dt, 3).unwrap();
+        let before = allocations();
+        sim.run(scene.dt, 10).unwrap();
+        assert_eq!(allocations() - before, 0, "{method:?}");
+    }
+}

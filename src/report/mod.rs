@@ -689,10 +689,12 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
         .filter_map(|(k, &m)| {
             runs.iter()
                 .find(|o| o.method == m && o.cells == finest)
-                .and_then(|o| o.run.as_ref())
-                .map(|r| Series {
-                    label: m.label(),
-                    points: r
+                .map(|o| Series {
+                    label: match &o.failure {
+                        Some(_) => format!("{} (stopped)", m.label()),
+                        None => m.label(),
+                    },
+                    points: o
                         .history
                         .iter()
                         .skip(1)
@@ -756,14 +758,36 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
     if study.ppc.is_empty() {
         return Ok(());
     }
+    let early = crate::tables::mls::EARLY_TIME;
     let ppc = mls_paper::METHODS[1..]
         .iter()
         .enumerate()
-        .map(|(k, &m)| Series {
-            label: m.label(),
-            points: aligned_points(&study.ppc, m, |o, e| (o.ppc as f64, e.displacement)),
-            style: Style::Line,
-            color: k + 1,
+        .flat_map(|(k, &m)| {
+            let at_early = study
+                .ppc
+                .iter()
+                .filter(|o| o.method == m)
+                .filter_map(|o| {
+                    o.history
+                        .iter()
+                        .find(|e| (e.time - early).abs() < 1e-9)
+                        .map(|e| (o.ppc as f64, e.displacement))
+                })
+                .collect();
+            [
+                Series {
+                    label: format!("{} at t = {early} s", m.label()),
+                    points: at_early,
+                    style: Style::Line,
+                    color: k + 1,
+                },
+                Series {
+                    label: format!("{} at T", m.label()),
+                    points: aligned_points(&study.ppc, m, |o, e| (o.ppc as f64, e.displacement)),
+                    style: Style::Markers,
+                    color: k + 1,
+                },
+            ]
         })
         .collect();
     charts::write(
@@ -775,7 +799,7 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
                 study.options.ppc_cells
             ),
             x_label: "particles per cell".into(),
-            y_label: "RMS displacement error at T [m]".into(),
+            y_label: "RMS displacement error [m]".into(),
             log_x: false,
             log_y: true,
             series: ppc,

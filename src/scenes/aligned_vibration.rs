@@ -355,10 +355,30 @@ impl AlignedVibration {
         steps: usize,
         record_every: usize,
     ) -> Result<AlignedRun> {
+        let (run, stop) = self.run_until_stopped(method, cells, per_side, steps, record_every)?;
+        match stop {
+            Some(e) => Err(e),
+            None => Ok(run),
+        }
+    }
+
+    /// [`AlignedVibration::run`] that keeps what it recorded when a step
+    /// fails: the run (its `steps` and `last` are then those of the last
+    /// record before the failure, not of T) and the error that stopped it.
+    /// Errors only if the run cannot start.
+    pub fn run_until_stopped(
+        &self,
+        method: AlignedMethod,
+        cells: usize,
+        per_side: usize,
+        steps: usize,
+        record_every: usize,
+    ) -> Result<(AlignedRun, Option<Error>)> {
         let mut sim = self.simulation(method, cells, per_side, 1.0)?;
         let mut history = vec![self.errors(&sim)?];
         let mut seconds = 0.0;
         let mut done = 0;
+        let mut stop = None;
         while done < steps {
             let chunk = if record_every > 0 {
                 record_every.min(steps - done)
@@ -366,21 +386,28 @@ impl AlignedVibration {
                 steps - done
             };
             let start = std::time::Instant::now();
-            sim.run(self.dt, chunk)?;
+            let stepped = sim.run(self.dt, chunk);
             seconds += start.elapsed().as_secs_f64();
+            if let Err(e) = stepped
+                .and_then(|()| self.errors(&sim))
+                .map(|e| history.push(e))
+            {
+                stop = Some(e);
+                break;
+            }
             done += chunk;
-            history.push(self.errors(&sim)?);
         }
-        Ok(AlignedRun {
+        let run = AlignedRun {
             method,
             cells,
             ppc: per_side * per_side,
-            steps,
+            steps: done,
             last: *history.last().expect("the initial errors"),
             history,
             conservation: sim.conservation,
             seconds,
-        })
+        };
+        Ok((run, stop))
     }
 }
 

@@ -17,7 +17,9 @@
 //! [`aligned_study`], [`METHODS`].
 
 use crate::error::Result;
-use crate::scenes::aligned_vibration::{parameters, AlignedMethod, AlignedRun, AlignedVibration};
+use crate::scenes::aligned_vibration::{
+    parameters, AlignedErrors, AlignedMethod, AlignedRun, AlignedVibration,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -72,7 +74,6 @@ impl AlignedStudyOptions {
             sizes: vec![8, 16, 32, 64],
             ppc_per_side: vec![2, 3, 4],
             other_young_sizes: vec![8, 16, 32],
-            phase1_sizes: vec![8, 16, 32],
             reference_sizes: vec![8, 16, 32, 64],
             ..Self::default_run()
         }
@@ -108,6 +109,8 @@ pub struct RunOutcome {
     pub run: Option<AlignedRun>,
     /// The error that stopped it, if any.
     pub failure: Option<String>,
+    /// The errors recorded up to T or up to the stop (t = 0 first).
+    pub history: Vec<AlignedErrors>,
 }
 
 /// Everything the table and the charts show.
@@ -131,10 +134,14 @@ pub struct AlignedStudy {
 impl AlignedStudy {
     /// The convergence run of `method` on `cells` cells, if it reached T.
     pub fn run(&self, method: AlignedMethod, cells: usize) -> Option<&AlignedRun> {
+        self.outcome(method, cells).and_then(|o| o.run.as_ref())
+    }
+
+    /// The convergence outcome of `method` on `cells` cells.
+    pub fn outcome(&self, method: AlignedMethod, cells: usize) -> Option<&RunOutcome> {
         self.convergence
             .iter()
             .find(|o| o.method == method && o.cells == cells)
-            .and_then(|o| o.run.as_ref())
     }
 }
 
@@ -147,14 +154,28 @@ struct Job {
 }
 
 fn outcome(job: &Job, scene: &AlignedVibration, o: &AlignedStudyOptions) -> RunOutcome {
-    let result = scene.run(job.method, job.cells, job.per_side, o.steps, o.record_every);
+    let result =
+        scene.run_until_stopped(job.method, job.cells, job.per_side, o.steps, o.record_every);
+    let (run, failure) = match result {
+        Ok((run, None)) => (Some(run), None),
+        Ok((run, Some(e))) => (None, Some((run.history, e.to_string()))),
+        Err(e) => (None, Some((Vec::new(), e.to_string()))),
+    };
+    let (history, failure) = match failure {
+        Some((h, f)) => (h, Some(f)),
+        None => (
+            run.as_ref().map(|r| r.history.clone()).unwrap_or_default(),
+            None,
+        ),
+    };
     RunOutcome {
         parameter_set: job.set.into(),
         method: job.method,
         cells: job.cells,
         ppc: job.per_side * job.per_side,
-        failure: result.as_ref().err().map(|e| e.to_string()),
-        run: result.ok(),
+        failure,
+        run,
+        history,
     }
 }
 
