@@ -354,3 +354,46 @@ fn out_of_range_indices_spans_and_points_are_refused() {
     assert!(kv.local_basis_on_span(2, 0.0, 0).is_ok());
     assert!(kv.local_basis_on_span(5, 3.0, 0).is_ok());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The `Basis1d` interface of a knot vector is the knot vector (what the
+    /// mass matrices and the MPM engine see), and the reusable-scratch
+    /// evaluator gives every derivative of `local_basis`, bit for bit, also
+    /// when one scratch serves several degrees and orders in turn.
+    #[test]
+    fn the_basis_interface_and_the_scratch_evaluator_are_the_knot_vector(
+        kv in open_knots(6, 0.05), other in open_knots(6, 0.05), f in fractions()
+    ) {
+        let b: &dyn Basis1d = &kv;
+        prop_assert_eq!(b.num_basis(), kv.num_basis());
+        prop_assert_eq!(b.degree(), kv.degree());
+        prop_assert_eq!(b.domain(), (kv.knots()[0], *kv.knots().last().unwrap()));
+        prop_assert_eq!(b.cells(), kv.spans());
+        // Gradient breaks: the interior knots where the functions are at
+        // most C⁰, multiplicity ≥ max(p, 1) (thesis §6.1).
+        let (a, e) = kv.domain();
+        let p = kv.degree();
+        let expected: Vec<f64> = kv.breakpoints().into_iter()
+            .filter(|&(t, m)| t > a && t < e && m >= p.max(1)).map(|(t, _)| t).collect();
+        prop_assert_eq!(b.gradient_breaks(), expected.clone());
+        for t in &expected {
+            prop_assert!(kv.knots().iter().filter(|&&k| k == *t).count() >= p.max(1));
+        }
+        let mut scratch = hompm::spline::bspline::SpanScratch::default();
+        for x in sample_points(&kv, &f) {
+            // Use the scratch on another degree first.
+            let (oa, ob) = other.domain();
+            other.local_basis_into(oa + 0.37 * (ob - oa), other.degree(), &mut scratch).unwrap();
+            for order in [p, 1, 0] {
+                let first = kv.local_basis_into(x, order, &mut scratch).unwrap();
+                let reference = kv.local_basis(x, order).unwrap();
+                prop_assert_eq!(first, reference.first);
+                for k in 0..=order.min(p) {
+                    prop_assert_eq!(scratch.derivative(k), reference.derivatives[k].as_slice());
+                }
+            }
+        }
+    }
+}

@@ -9,9 +9,10 @@
 //! particle-step, the other reading of E, and hompm's diagnostic variant
 //! with MLS in phase 1 only.
 //!
-//! Every run is independent and single-threaded; rayon runs them two at a
-//! time on two cores, longest first. The results are in input order, so the
-//! numbers do not depend on the scheduling (the wall times do).
+//! Every run is independent and single-threaded; one worker per rayon
+//! thread takes the next run of a longest-first list. The results are put
+//! back in input order, so the numbers do not depend on the scheduling (the
+//! wall times do).
 //!
 //! Items: [`AlignedStudyOptions`], [`RunOutcome`], [`AlignedStudy`],
 //! [`aligned_study`], [`METHODS`].
@@ -235,20 +236,30 @@ pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
         };
         per * (j.cells * j.cells * j.per_side * j.per_side) as f64
     };
+    // Longest first, greedily: every worker takes the next job of the
+    // sorted list when it is free (rayon's splitting of a list can leave
+    // a core idle behind one long run).
     let mut order: Vec<usize> = (0..jobs.len()).collect();
     order.sort_by(|&a, &b| cost(&jobs[b]).total_cmp(&cost(&jobs[a])));
-    let mut results: Vec<(usize, RunOutcome)> = order
-        .par_iter()
-        .map(|&i| {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done: std::sync::Mutex<Vec<(usize, RunOutcome)>> = std::sync::Mutex::new(Vec::new());
+    (0..rayon::current_num_threads().max(1))
+        .into_par_iter()
+        .for_each(|_| loop {
+            let k = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let Some(&i) = order.get(k) else { break };
             let j = &jobs[i];
             let scene = if j.set == "mls-paper-e1e8" {
                 &scenes[1]
             } else {
                 &scenes[0]
             };
-            (i, outcome(j, scene, o))
-        })
-        .collect();
+            let result = outcome(j, scene, o);
+            if let Ok(mut d) = done.lock() {
+                d.push((i, result));
+            }
+        });
+    let mut results = done.into_inner().unwrap_or_default();
     results.sort_by_key(|(i, _)| *i);
     let mut groups: [Vec<RunOutcome>; 5] = Default::default();
     for (i, r) in results {
