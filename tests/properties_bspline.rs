@@ -353,6 +353,13 @@ fn out_of_range_indices_spans_and_points_are_refused() {
     assert_relative_eq!(dense[2], 1.0, epsilon = 1e-14);
     assert!(kv.local_basis_on_span(2, 0.0, 0).is_ok());
     assert!(kv.local_basis_on_span(5, 3.0, 0).is_ok());
+    // Unclamped knots: spans 0 and 1 are non-empty but left of the domain
+    // [ξ_2, ξ_3], span 3 right of it; only span 2 is inside.
+    let uniform = KnotVector::new(vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], 2).unwrap();
+    assert_eq!(uniform.domain(), (2.0, 3.0));
+    assert!(uniform.local_basis_on_span(1, 1.5, 0).is_err());
+    assert!(uniform.local_basis_on_span(3, 3.5, 0).is_err());
+    assert!(uniform.local_basis_on_span(2, 2.5, 0).is_ok());
 }
 
 proptest! {

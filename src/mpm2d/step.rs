@@ -299,6 +299,22 @@ fn evaluate_basis_at_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspac
         .fill_stencils(&ys, &mut ws.along_y, &mut ws.scratch)
 }
 
+/// The x and y stencils (values, gradients) of particle k, `w` entries
+/// each: the factors of N_i(x_p) = N_a(x) N_b(y) and of its gradient.
+#[inline]
+fn particle_stencils<'a>(
+    sx: &'a Stencils,
+    sy: &'a Stencils,
+    k: usize,
+    w: usize,
+) -> [(&'a [f64], &'a [f64]); 2] {
+    let r = k * w..(k + 1) * w;
+    [
+        (&sx.values[r.clone()], &sx.gradients[r.clone()]),
+        (&sy.values[r.clone()], &sy.gradients[r]),
+    ]
+}
+
 fn clear_nodes(ws: &mut Workspace2d) {
     ws.mass.iter_mut().for_each(|m| *m = 0.0);
     ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
@@ -355,14 +371,7 @@ fn map_direct_with<const W: usize>(
         let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
         let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
         let s = stress(k);
-        let (vx, gx) = (
-            &sx.values[k * w..(k + 1) * w],
-            &sx.gradients[k * w..(k + 1) * w],
-        );
-        let (vy, gy) = (
-            &sy.values[k * w..(k + 1) * w],
-            &sy.gradients[k * w..(k + 1) * w],
-        );
+        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
         for b in 0..w {
             let row = (sy.first[k] + b) * n + sx.first[k];
             let (mass, momentum, force) = (
@@ -545,10 +554,7 @@ fn update_particles_with<const W: usize>(
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let (vx, vy) = (
-            &sx.values[k * w..(k + 1) * w],
-            &sy.values[k * w..(k + 1) * w],
-        );
+        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
         for (b, &nb) in vy.iter().enumerate() {
             let row = (sy.first[k] + b) * n + sx.first[k];
@@ -690,14 +696,7 @@ fn update_deformation_with<const W: usize>(
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let (vx, gx) = (
-            &sx.values[k * w..(k + 1) * w],
-            &sx.gradients[k * w..(k + 1) * w],
-        );
-        let (vy, gy) = (
-            &sy.values[k * w..(k + 1) * w],
-            &sy.gradients[k * w..(k + 1) * w],
-        );
+        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
         let mut l = [0.0; 4];
         for b in 0..w {
             let row = (sy.first[k] + b) * n + sx.first[k];
