@@ -404,3 +404,27 @@ proptest! {
         }
     }
 }
+
+/// The refusals of `KnotVector::new` name what is wrong: too few knots for
+/// the degree is an invalid degree (p + 2 knots at least, thesis §6.1), and
+/// a decreasing pair is named by both indices.
+#[test]
+fn knot_vector_refusals_name_the_offending_knots() {
+    use hompm::error::Error;
+    for (knots, p) in [
+        (vec![0.0, 1.0], 1),
+        (vec![0.0, 0.5, 1.0], 2),
+        (vec![0.0, 1.0], 5),
+    ] {
+        let e = KnotVector::new(knots.clone(), p).unwrap_err();
+        assert!(
+            matches!(e, Error::InvalidDegree(_)),
+            "{knots:?}, p = {p}: {e}"
+        );
+    }
+    assert!(KnotVector::new(vec![0.0, 0.0, 1.0, 1.0], 1).is_ok());
+    let e = KnotVector::new(vec![0.0, 0.5, 0.25, 1.0], 1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("knot 2 = 0.25 < knot 1 = 0.5"), "{e}");
+}
