@@ -45,7 +45,7 @@ fn discretisation(case: &str) -> Discretisation {
     let parts: Vec<&str> = case.split('/').collect();
     let method = match parts[0] {
         "mpm" => Method::Mpm,
-        "ddmpm" => Method::Ddmpm,
+        "ddmpm" => Method::DDMPM,
         "bsmpm3" => Method::Bsmpm { degree: 3 },
         _ => Method::Bsmpm { degree: 2 },
     };

@@ -74,7 +74,9 @@ fn direct_mapping_with_lumped_mass_allocates_nothing_after_the_first_step() {
     for method in [
         Method::Mpm,
         Method::MpmP2,
-        Method::Ddmpm,
+        Method::DDMPM,
+        Method::DDMPM_PARTICLES,
+        Method::ddmpm_subpoints(8),
         Method::Bsmpm { degree: 2 },
         Method::Bsmpm { degree: 3 },
     ] {

@@ -272,3 +272,45 @@ fn the_2d_run_prints_tensor_fields_and_refuses_what_it_cannot_do() {
         assert!(e.contains(needle), "{args}: {e}");
     }
 }
+
+/// Every 1D scene prints its run as JSON (an unset option of a parameter
+/// set is left out, not written as null), and DDMPM's JSON names its
+/// node-integral rule (TLS paper §3.3; issue #11).
+#[test]
+fn every_1d_scene_prints_json_and_ddmpm_names_its_node_integrals() {
+    for scene in ["vibrating-bar", "column-self-weight", "column-top-load"] {
+        let out = run(&format!("run {scene} --steps 3 --json")).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+        assert_eq!(v["scene"], scene);
+        assert!(v.get("node_integrals").is_none(), "{scene}");
+    }
+    for (flag, rule) in [
+        ("exact", serde_json::json!("exact")),
+        ("particles", serde_json::json!("particles")),
+        ("subpoints:8", serde_json::json!({"subpoints": 8})),
+    ] {
+        let out = run(&format!(
+            "run column-self-weight --method ddmpm --node-integrals {flag} --steps 3 --json"
+        ))
+        .unwrap();
+        let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+        assert_eq!(v["node_integrals"], rule, "{flag}");
+    }
+    for (args, needle) in [
+        (
+            "run vibrating-bar --method mpm --node-integrals particles",
+            "ddmpm only",
+        ),
+        (
+            "run vibrating-bar --method ddmpm --node-integrals subpoints:0",
+            "N ≥ 1",
+        ),
+        (
+            "run vibrating-bar --method ddmpm --node-integrals gauss",
+            "not a node-integral rule",
+        ),
+    ] {
+        let e = refused(args).to_string();
+        assert!(e.contains(needle), "{args}: {e}");
+    }
+}

@@ -40,8 +40,8 @@ fn reconstructions_reduce_the_large_deformation_stress_error() {
         (Method::Mpm, Mapping::Direct),
         (b, Mapping::CubicSpline),
         (b, Mapping::Tls),
-        (Method::Ddmpm, Mapping::CubicSpline),
-        (Method::Ddmpm, Mapping::Tls),
+        (Method::DDMPM, Mapping::CubicSpline),
+        (Method::DDMPM, Mapping::Tls),
     ];
     let e = stress_errors_against_ulfem("tls-table-4", 400, 20, 8, 1e-4, 1000, &v).unwrap();
     let factors: Vec<f64> = e[1..].iter().map(|(_, x)| e[0].1 / x).collect();

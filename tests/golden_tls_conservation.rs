@@ -12,7 +12,7 @@ use hompm::tables::{self, RunOptions};
 /// DDMPM and BSMPM (TLS paper §5.5, Table 3).
 #[test]
 fn tls_mapping_conserves_to_machine_precision() {
-    for method in [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }] {
+    for method in [Method::Mpm, Method::DDMPM, Method::Bsmpm { degree: 2 }] {
         let (m, p) = conservation_errors(method, Mapping::Tls, 40, 12).unwrap();
         assert!(
             m <= 1e-13 && p <= 1e-13,

@@ -12,7 +12,7 @@ use proptest::prelude::*;
 fn method_strategy() -> impl Strategy<Value = Method> {
     prop_oneof![
         Just(Method::Mpm),
-        Just(Method::Ddmpm),
+        Just(Method::DDMPM),
         (1usize..=4).prop_map(|degree| Method::Bsmpm { degree })
     ]
 }
@@ -66,7 +66,7 @@ proptest! {
     /// produces no strain), like the P1 gradients they blend.
     #[test]
     fn ddmpm_gradients_sum_to_zero(cells in 2usize..20, t in 0.0f64..=1.0) {
-        let grid = Grid::new(Method::Ddmpm, 0.0, 2.0, cells).unwrap();
+        let grid = Grid::new(Method::DDMPM, 0.0, 2.0, cells).unwrap();
         let s = grid.shape(2.0 * t).unwrap();
         let sum: f64 = s.gradients.iter().sum();
         let scale = s.gradients.iter().map(|g| g.abs()).fold(1.0, f64::max);
@@ -84,12 +84,12 @@ fn rigid_translation_creates_no_stress() {
     use hompm::mpm::musl::{Constitutive, Settings, Simulation};
     for method in [
         Method::Mpm,
-        Method::Ddmpm,
+        Method::DDMPM,
         Method::Bsmpm { degree: 2 },
         Method::Bsmpm { degree: 3 },
     ] {
         for mapping in [Mapping::Direct, Mapping::Tls, Mapping::CubicSpline] {
-            let grid = if method == Method::Ddmpm {
+            let grid = if method == Method::DDMPM {
                 Grid::new(method, 0.0, 1.0, 4).unwrap()
             } else {
                 Grid::new(method, -1.0, 2.0, 12).unwrap()

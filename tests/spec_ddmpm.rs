@@ -36,7 +36,7 @@ fn at_an_interior_cell_centre_alpha_is_one_half() {
     // Element k = 2 of 5 on [0, 5] (h = 1): φ_2 = φ_3 = ½ at x = 2.5, so
     // α = 2·½·½ = ½ and ∇̃φ = [∇̃φ_1, ∇̃φ_2, ∇̃φ_3, ∇̃φ_4] = [−¼, −¼, ¼, ¼]/h.
     let h = 1.0;
-    let grid = Grid::new(Method::Ddmpm, 0.0, 5.0, 5).unwrap();
+    let grid = Grid::new(Method::DDMPM, 0.0, 5.0, 5).unwrap();
     let g = ddmpm_gradients(&grid, 2.5);
     let smoothed = [-0.25 / h, -0.25 / h, 0.25 / h, 0.25 / h];
     let standard = [0.0, -1.0 / h, 1.0 / h, 0.0];
@@ -56,7 +56,7 @@ fn at_a_node_alpha_vanishes_and_the_gradient_is_the_smoothed_one() {
     // x = 3 is node 3 (the start of element 3): φ_3 = 1, φ_4 = 0, α = 0, so
     // ∇̄φ_i = ∇̃φ_i = ∫ φ_3 ∇φ_i / V_3 = [−½, 0, ½]/h for i = 2, 3, 4.
     let h = 0.5;
-    let grid = Grid::new(Method::Ddmpm, 0.0, 3.0, 6).unwrap();
+    let grid = Grid::new(Method::DDMPM, 0.0, 3.0, 6).unwrap();
     let g = ddmpm_gradients(&grid, 3.0 * h);
     assert_relative_eq!(g[2], -0.5 / h, epsilon = 1e-13);
     assert_relative_eq!(g[3], 0.0, epsilon = 1e-13);
@@ -73,7 +73,7 @@ fn at_the_first_node_the_half_volume_and_one_sided_integrals_enter() {
     // Node 0: V_0 = h/2, ∫ φ_0 ∇φ_0 = −½, ∫ φ_0 ∇φ_1 = ½, so at x = 0
     // (α = 0) ∇̄φ_0 = −1/h and ∇̄φ_1 = 1/h.
     let h = 0.25;
-    let grid = Grid::new(Method::Ddmpm, 0.0, 1.0, 4).unwrap();
+    let grid = Grid::new(Method::DDMPM, 0.0, 1.0, 4).unwrap();
     let g = ddmpm_gradients(&grid, 0.0);
     assert_relative_eq!(g[0], -1.0 / h, epsilon = 1e-13);
     assert_relative_eq!(g[1], 1.0 / h, epsilon = 1e-13);
@@ -84,7 +84,7 @@ fn the_modified_gradient_reproduces_the_gradient_of_a_linear_field() {
     // Σ_i x_i ∇̃φ_i = Σ_j φ_j/V_j ∫ φ_j Σ_i x_i ∇φ_i = Σ_j φ_j = 1, and so is
     // the blend with the P1 gradient: a linear displacement gives a uniform
     // strain everywhere, for any α.
-    let grid = Grid::new(Method::Ddmpm, -1.0, 2.0, 7).unwrap();
+    let grid = Grid::new(Method::DDMPM, -1.0, 2.0, 7).unwrap();
     let h = grid.cell_size();
     for k in 0..=70 {
         let x = -1.0 + 3.0 * k as f64 / 70.0;
@@ -102,7 +102,7 @@ fn the_modified_gradient_reproduces_the_gradient_of_a_linear_field() {
 fn the_blend_is_two_phi_k_phi_k_plus_one_everywhere_in_an_element() {
     // Inside interior element k, ∇̄φ_{k−1} = (1 − α) φ_k ∫φ_k∇φ_{k−1}/V_k
     // = −(1 − α) φ_k/(2h); with α = 2 φ_k φ_{k+1} this pins α at every x.
-    let grid = Grid::new(Method::Ddmpm, 0.0, 6.0, 6).unwrap();
+    let grid = Grid::new(Method::DDMPM, 0.0, 6.0, 6).unwrap();
     for t in [0.1, 0.3, 0.5, 0.7, 0.9] {
         let x = 3.0 + t;
         let (phi_k, phi_k1) = (1.0 - t, t);
@@ -110,5 +110,190 @@ fn the_blend_is_two_phi_k_phi_k_plus_one_everywhere_in_an_element() {
         let g = ddmpm_gradients(&grid, x);
         assert_relative_eq!(g[2], -(1.0 - alpha) * phi_k / 2.0, epsilon = 1e-14);
         assert_relative_eq!(g[5], (1.0 - alpha) * phi_k1 / 2.0, epsilon = 1e-14);
+    }
+}
+
+// ---- The node-integral rules (issue #11; TLS paper §3.3, Table 8) ----
+
+use hompm::mpm::grid::NodeIntegrals;
+
+/// |V − V_exact| + |G − G_exact| summed over the nodes of `grid` after a
+/// refresh from the particles, against the exact integrals over Ω.
+fn node_integral_error(grid: &mut Grid, xs: &[f64], vs: &[f64]) -> f64 {
+    let exact = Grid::new(Method::DDMPM, 0.0, grid.domain().1, grid.num_cells()).unwrap();
+    grid.refresh_node_integrals(xs, vs).unwrap();
+    let dv: f64 = grid
+        .node_volumes()
+        .iter()
+        .zip(exact.node_volumes())
+        .map(|(a, b)| (a - b).abs())
+        .sum();
+    let dg: f64 = grid
+        .node_gradient_integrals()
+        .iter()
+        .zip(exact.node_gradient_integrals())
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .sum();
+    dv + dg
+}
+
+#[test]
+fn particle_quadrature_node_integrals_are_the_particle_sums() {
+    // Two particles on [0, 2] with h = 1: x = 0.25 (V = 0.5) and x = 1.5
+    // (V = 1). V_0 = 0.5·0.75, V_1 = 0.5·0.25 + 1·0.5, V_2 = 1·0.5;
+    // ∫φ_0∇φ_1 ≈ 0.5·0.75·1, ∫φ_1∇φ_1 ≈ 0.5·0.25·1 + 1·0.5·(−1).
+    let mut grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 2).unwrap();
+    grid.refresh_node_integrals(&[0.25, 1.5], &[0.5, 1.0])
+        .unwrap();
+    let v = grid.node_volumes();
+    assert_relative_eq!(v[0], 0.375, epsilon = 1e-15);
+    assert_relative_eq!(v[1], 0.625, epsilon = 1e-15);
+    assert_relative_eq!(v[2], 0.5, epsilon = 1e-15);
+    let g = grid.node_gradient_integrals();
+    assert_relative_eq!(g[0][2], 0.375, epsilon = 1e-15);
+    assert_relative_eq!(g[1][1], 0.125 - 0.5, epsilon = 1e-15);
+    assert_relative_eq!(g[2][0], -0.5, epsilon = 1e-15);
+    // The exact rule ignores the particles.
+    let mut exact = Grid::new(Method::DDMPM, 0.0, 2.0, 2).unwrap();
+    exact
+        .refresh_node_integrals(&[0.25, 1.5], &[0.5, 1.0])
+        .unwrap();
+    assert_relative_eq!(exact.node_volumes()[1], 1.0, epsilon = 1e-15);
+}
+
+#[test]
+fn one_subpoint_is_particle_quadrature_bit_for_bit() {
+    let xs = [0.1, 0.45, 0.8, 1.3, 1.95];
+    let vs = [0.2, 0.3, 0.25, 0.4, 0.1];
+    let mut a = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
+    let mut b = Grid::new(Method::ddmpm_subpoints(1), 0.0, 2.0, 4).unwrap();
+    a.refresh_node_integrals(&xs, &vs).unwrap();
+    b.refresh_node_integrals(&xs, &vs).unwrap();
+    assert_eq!(a.node_volumes(), b.node_volumes());
+    assert_eq!(a.node_gradient_integrals(), b.node_gradient_integrals());
+}
+
+#[test]
+fn subpoints_converge_to_the_exact_integrals_as_their_number_grows() {
+    // Seven particles tile [0, 3] (three cells), so their domains straddle
+    // the nodes at 1 and 2: one point per particle is not exact there. The
+    // integrand φ_j∇φ_i jumps at a node, so the midpoint subpoints converge
+    // as O(1/n): the error halves with every doubling of n.
+    let xs: Vec<f64> = (0..7).map(|p| (p as f64 + 0.5) * 3.0 / 7.0).collect();
+    let vs = vec![3.0 / 7.0; 7];
+    let mut errors = Vec::new();
+    for n in [1, 2, 4, 8, 16, 32, 64] {
+        let mut grid = Grid::new(Method::ddmpm_subpoints(n), 0.0, 3.0, 3).unwrap();
+        errors.push(node_integral_error(&mut grid, &xs, &vs));
+    }
+    assert!(errors[0] > 1e-2, "{errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[1] <= 0.55 * w[0], "not O(1/n): {errors:?}");
+    }
+    assert!(errors[6] < 0.02 * errors[0], "{errors:?}");
+    // Domains that do not straddle a node (two per cell) are integrated
+    // exactly by one point: P1 integrands are linear inside an element.
+    let xs: Vec<f64> = (0..6).map(|p| (p as f64 + 0.5) * 0.5).collect();
+    let mut grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 3.0, 3).unwrap();
+    assert!(node_integral_error(&mut grid, &xs, &[0.5; 6]) < 1e-14);
+}
+
+#[test]
+fn the_modified_gradient_reproduces_a_linear_field_under_every_rule() {
+    // Σ_i x_i ∇̃φ_i = Σ_j φ_j/V_j Σ_q w_q φ_j(x_q) Σ_i x_i ∇φ_i(x_q)
+    // = Σ_j φ_j = 1 whatever the quadrature points, as long as every node
+    // that φ_j(x) > 0 reaches has V_j > 0: true inside the material.
+    let xs: Vec<f64> = (0..11).map(|p| 0.3 + 0.17 * p as f64).collect();
+    let vs = vec![0.17; 11];
+    for method in [
+        Method::DDMPM,
+        Method::DDMPM_PARTICLES,
+        Method::ddmpm_subpoints(3),
+        Method::ddmpm_subpoints(16),
+    ] {
+        let mut grid = Grid::new(method, 0.0, 3.0, 6).unwrap();
+        grid.refresh_node_integrals(&xs, &vs).unwrap();
+        let h = grid.cell_size();
+        for &x in &xs[1..10] {
+            let g = ddmpm_gradients(&grid, x);
+            let slope: f64 = g.iter().enumerate().map(|(i, gi)| i as f64 * h * gi).sum();
+            assert_relative_eq!(slope, 1.0, epsilon = 1e-12);
+        }
+    }
+}
+
+#[test]
+fn at_a_node_alpha_vanishes_under_every_rule() {
+    // At node j, α = 0 and ∇̄φ_i = ∫φ_j∇φ_i / V_j with the rule's integrals.
+    let xs = [0.2, 0.55, 0.9, 1.2, 1.7];
+    let vs = [0.3, 0.35, 0.3, 0.35, 0.5];
+    for method in [Method::DDMPM_PARTICLES, Method::ddmpm_subpoints(4)] {
+        let mut grid = Grid::new(method, 0.0, 2.0, 4).unwrap();
+        grid.refresh_node_integrals(&xs, &vs).unwrap();
+        let j = 2;
+        let (v, gi) = (grid.node_volumes()[j], grid.node_gradient_integrals()[j]);
+        let g = ddmpm_gradients(&grid, 1.0);
+        for (slot, i) in (j - 1..=j + 1).enumerate() {
+            assert_relative_eq!(g[i], gi[slot] / v, epsilon = 1e-13);
+        }
+    }
+}
+
+#[test]
+fn a_node_no_particle_reaches_adds_nothing_instead_of_dividing_by_zero() {
+    // Particles only in the first of four cells: V_2 = V_3 = V_4 = 0. The
+    // gradient at x = 1.25 (cell 2, nodes 2 and 3) is then α∇φ only, finite.
+    let mut grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
+    grid.refresh_node_integrals(&[0.1, 0.3], &[0.2, 0.2])
+        .unwrap();
+    assert_eq!(grid.node_volumes()[3], 0.0);
+    let g = ddmpm_gradients(&grid, 1.25);
+    let alpha = 2.0 * 0.5 * 0.5;
+    assert_relative_eq!(g[2], -alpha / 0.5, epsilon = 1e-14);
+    assert_relative_eq!(g[3], alpha / 0.5, epsilon = 1e-14);
+    assert!(g.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn node_integral_rules_refuse_bad_input() {
+    assert!(Grid::new(Method::ddmpm_subpoints(0), 0.0, 1.0, 2).is_err());
+    let mut grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 1.0, 2).unwrap();
+    assert!(grid.refresh_node_integrals(&[0.5], &[]).is_err());
+    assert!(grid.refresh_node_integrals(&[0.5], &[f64::NAN]).is_err());
+    assert!(grid.refresh_node_integrals(&[1.5], &[0.1]).is_err());
+    assert_eq!(Method::ddmpm_subpoints(8).label(), "DDMPM (8 subpoints)");
+    assert_eq!(Method::DDMPM.label(), "DDMPM");
+    assert_eq!(NodeIntegrals::Particles.label(), "particle quadrature");
+}
+
+#[test]
+fn a_step_refreshes_the_node_integrals_from_the_particles_at_its_start() {
+    use hompm::mpm::mapping::{Mapping, MassMatrix};
+    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::particles::Particles;
+    let grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
+    let mut p = Particles::uniform(0.0, 1.3, 8, 1.0).unwrap();
+    p.v = (0..8).map(|k| 0.1 * k as f64).collect();
+    let settings = Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: Constitutive::SmallStrain,
+        young: 10.0,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+    };
+    let mut sim = Simulation::new(grid, p, settings).unwrap();
+    for _ in 0..3 {
+        let (xs, vs) = (sim.particles.x.clone(), sim.particles.volume.clone());
+        sim.step(1e-2).unwrap();
+        let mut expected = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
+        expected.refresh_node_integrals(&xs, &vs).unwrap();
+        assert_eq!(sim.grid.node_volumes(), expected.node_volumes());
+        // Partition of unity: Σ_j V_j = Σ_p V_p.
+        let total: f64 = sim.grid.node_volumes().iter().sum();
+        assert_relative_eq!(total, vs.iter().sum::<f64>(), epsilon = 1e-14);
     }
 }

@@ -170,7 +170,7 @@ fn the_monitors_critical_courant_numbers_are_the_measured_ones() {
     use hompm::mpm::monitor::measured_critical_courant;
     for method in [
         Method::Mpm,
-        Method::Ddmpm,
+        Method::DDMPM,
         Method::MpmP2,
         Method::Bsmpm { degree: 1 },
         Method::Bsmpm { degree: 2 },

@@ -5,11 +5,11 @@
 //! Counts go through [`count`], so that `--cells -1` reaches a range
 //! message instead of clap's "unexpected argument".
 //!
-//! Items: [`MethodArg`], [`MappingArg`], [`MassArg`], [`SolverArg`],
+//! Items: [`MethodArg`], [`MappingArg`], [`MassArg`], [`SolverArg`], [`node_integrals`],
 //! [`ReconstructionArg`], [`SceneArg`], [`count`], [`name`].
 
 use crate::error::{Error, Result};
-use crate::mpm::grid::Method;
+use crate::mpm::grid::{Method, NodeIntegrals};
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use clap::ValueEnum;
 
@@ -33,12 +33,18 @@ pub enum MethodArg {
 
 impl MethodArg {
     /// The library's [`Method`]; `degree` is used by `bsmpm` only and must
-    /// be at least 1.
-    pub fn method(self, degree: usize) -> Result<Method> {
+    /// be at least 1, `node_integrals` by `ddmpm` only.
+    pub fn method(self, degree: usize, node_integrals: NodeIntegrals) -> Result<Method> {
+        if self != MethodArg::Ddmpm && node_integrals != NodeIntegrals::Exact {
+            return Err(Error::InvalidArgument(format!(
+                "--node-integrals applies to --method ddmpm only, not {}",
+                name(&self)
+            )));
+        }
         Ok(match self {
             MethodArg::Mpm => Method::Mpm,
             MethodArg::MpmP2 => Method::MpmP2,
-            MethodArg::Ddmpm => Method::Ddmpm,
+            MethodArg::Ddmpm => Method::Ddmpm { node_integrals },
             MethodArg::Bsmpm if degree >= 1 => Method::Bsmpm { degree },
             MethodArg::Bsmpm => {
                 return Err(Error::InvalidDegree(
@@ -147,6 +153,36 @@ pub fn name<T: ValueEnum>(value: &T) -> String {
         .to_possible_value()
         .map(|v| v.get_name().to_string())
         .unwrap_or_default()
+}
+
+/// Parses DDMPM's node-integral rule (`--node-integrals`): `exact`,
+/// `particles`, `subpoints:N` with N ≥ 1, or `end-subpoints:N` with N ≥ 2
+/// (TLS paper §3.3 and Table 8; [`NodeIntegrals`]).
+pub fn node_integrals(text: &str) -> std::result::Result<NodeIntegrals, String> {
+    let t = text.trim();
+    let rules = "exact, particles, subpoints:N, end-subpoints:N";
+    if let Some(rule) = [
+        ("exact", NodeIntegrals::Exact),
+        ("particles", NodeIntegrals::Particles),
+    ]
+    .into_iter()
+    .find_map(|(name, rule)| (t == name).then_some(rule))
+    {
+        return Ok(rule);
+    }
+    let (prefix, least, make): (&str, usize, fn(usize) -> NodeIntegrals) =
+        if t.starts_with("end-subpoints:") {
+            ("end-subpoints:", 2, NodeIntegrals::EndSubpoints)
+        } else if t.starts_with("subpoints:") {
+            ("subpoints:", 1, NodeIntegrals::Subpoints)
+        } else {
+            return Err(format!("'{t}' is not a node-integral rule ({rules})"));
+        };
+    match count(&t[prefix.len()..]) {
+        Ok(n) if n >= least => Ok(make(n)),
+        Ok(_) => Err(format!("{prefix}N needs N ≥ {least}")),
+        Err(e) => Err(format!("{prefix}N: {e}")),
+    }
 }
 
 /// Parses a count (a non-negative whole number). Negative numbers,

@@ -9,11 +9,12 @@
 //!
 //! Items: [`RunArgs`], [`run_scene`].
 
-use super::args::{count, name, MappingArg, MassArg, MethodArg, SceneArg};
+use super::args::{count, name, node_integrals, MappingArg, MassArg, MethodArg, SceneArg};
 use super::limits::Limits;
 use super::{json, Output};
 use crate::error::{Error, Result};
 use crate::mpm::diagnostics::rms_error;
+use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::mapping::Mapping;
 use crate::mpm::monitor::{StabilityMonitor, Warning};
 use crate::mpm::musl::{Constitutive, Simulation};
@@ -34,6 +35,10 @@ pub struct RunArgs {
     /// The MPM variant.
     #[arg(long, value_enum, default_value_t = MethodArg::Mpm)]
     method: MethodArg,
+    /// DDMPM's node integrals V_j and ∫φ_j∇φ_i: exact, particles (particle
+    /// quadrature) or subpoints:N (N subpoints per particle).
+    #[arg(long, default_value = "exact", value_parser = node_integrals)]
+    node_integrals: NodeIntegrals,
     /// B-spline degree for bsmpm.
     #[arg(long, default_value_t = 2, value_parser = count, allow_negative_numbers = true)]
     degree: usize,
@@ -80,6 +85,9 @@ struct RunJson {
     scene: String,
     params: serde_json::Value,
     method: String,
+    /// DDMPM's node-integral rule (ddmpm only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    node_integrals: Option<NodeIntegrals>,
     mapping: String,
     mass: String,
     cells: usize,
@@ -125,7 +133,7 @@ fn validate(a: &RunArgs) -> Result<()> {
         )));
     }
     if a.scene != SceneArg::AlignedVibration {
-        a.method.method(a.degree)?;
+        a.method.method(a.degree, a.node_integrals)?;
     }
     Ok(())
 }
@@ -163,7 +171,7 @@ fn check_limits(a: &RunArgs, limits: &Limits) -> Result<()> {
 fn build(a: &RunArgs) -> Result<(Simulation, serde_json::Value, Reference)> {
     let mapping = Mapping::from(a.mapping);
     let d = Discretisation::new(
-        a.method.method(a.degree)?,
+        a.method.method(a.degree, a.node_integrals)?,
         mapping,
         a.mass.into(),
         a.cells,
@@ -274,6 +282,7 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         scene: name(&a.scene),
         params,
         method: name(&a.method),
+        node_integrals: (a.method == MethodArg::Ddmpm).then_some(a.node_integrals),
         mapping: name(&a.mapping),
         mass: name(&a.mass),
         cells: a.cells,

@@ -11,8 +11,19 @@
 //!
 //! DDMPM (TLS paper §3.3): ∇̃φ_i(x) = Σ_j φ_j(x)/V_j ∫_Ω φ_j ∇φ_i dΩ with
 //! V_j = ∫_Ω φ_j dΩ, blended by α(x) = 2 Σ_i φ_i(x) φ_{i+1}(x), which vanishes
-//! on the element boundaries. The integrals are taken over the (fixed) grid
-//! domain Ω, exactly by two Gauss points per element (docs/conventions.md).
+//! on the element boundaries. The seeds do not say how the node integrals
+//! are evaluated, so the rule is a choice, [`NodeIntegrals`]:
+//! - `Exact`: over the (fixed) grid domain Ω, exactly by two Gauss points
+//!   per element, once per run (hompm's default; docs/conventions.md);
+//! - `Particles`: by the material points as quadrature points,
+//!   V_j ≈ Σ_p V_p φ_j(x_p) and ∫φ_j∇φ_i ≈ Σ_p V_p φ_j(x_p)∇φ_i(x_p),
+//!   every step (the integrals then carry the grid-crossing noise);
+//! - `Subpoints(n)`: the same sums over n subpoints per particle, at the
+//!   midpoints of n equal parts of its domain [x_p − V_p/2, x_p + V_p/2]
+//!   with weight V_p/n each, every step (after Dhakal and Zhang 2016, the
+//!   TLS paper's ref. 18 and Table 8).
+//!
+//! The per-step rules are refreshed by [`Grid::refresh_node_integrals`].
 //!
 //! Every step evaluates the basis at every particle, so [`Grid::evaluate`]
 //! writes into caller-owned slices and allocates nothing, and a particle's
@@ -21,7 +32,7 @@
 //! uniform grids of the seeds: a guess from the spacing, corrected against
 //! the stored cell boundaries so that the answer is exact.
 //!
-//! Items: [`Method`], [`Shape`], [`Grid`].
+//! Items: [`NodeIntegrals`], [`Method`], [`Shape`], [`Grid`].
 
 use crate::basis::{Basis1d, Stencils};
 use crate::error::{Error, Result};
@@ -31,6 +42,44 @@ use crate::spline::bspline::SpanScratch;
 use crate::spline::KnotVector;
 use serde::Serialize;
 
+/// How DDMPM evaluates its node integrals V_j = ∫_Ω φ_j dΩ and
+/// ∫_Ω φ_j ∇φ_i dΩ (TLS paper §3.3, which does not say; module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NodeIntegrals {
+    /// Exactly over the fixed grid domain Ω (two Gauss points per element),
+    /// once per run.
+    Exact,
+    /// Particle quadrature: V_j ≈ Σ_p V_p φ_j(x_p) and
+    /// ∫φ_j∇φ_i ≈ Σ_p V_p φ_j(x_p)∇φ_i(x_p), every step.
+    Particles,
+    /// n ≥ 1 subpoints per particle, at the midpoints of n equal parts of
+    /// [x_p − V_p/2, x_p + V_p/2], weight V_p/n each, every step (Dhakal and
+    /// Zhang 2016; TLS paper Table 8). One subpoint is `Particles`.
+    Subpoints(usize),
+    /// n ≥ 2 equally spaced subpoints per particle from x_p − V_p/2 to
+    /// x_p + V_p/2, both ends included, weight V_p/n each: the other
+    /// placement the description allows (a sensitivity check of Table 8).
+    EndSubpoints(usize),
+}
+
+impl NodeIntegrals {
+    /// A short label: "exact integrals", "particle quadrature", "8 subpoints".
+    pub fn label(&self) -> String {
+        match self {
+            NodeIntegrals::Exact => "exact integrals".into(),
+            NodeIntegrals::Particles => "particle quadrature".into(),
+            NodeIntegrals::Subpoints(n) => format!("{n} subpoints"),
+            NodeIntegrals::EndSubpoints(n) => format!("{n} subpoints incl. ends"),
+        }
+    }
+
+    /// Whether the integrals follow the particles (refreshed every step).
+    pub fn follows_particles(&self) -> bool {
+        !matches!(self, NodeIntegrals::Exact)
+    }
+}
+
 /// The MPM variant, i.e. the basis of the background grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -39,8 +88,11 @@ pub enum Method {
     Mpm,
     /// MPM with P2 Lagrange functions (unstable: negative masses).
     MpmP2,
-    /// Dual-domain MPM.
-    Ddmpm,
+    /// Dual-domain MPM (TLS paper §3.3) with a rule for its node integrals.
+    Ddmpm {
+        /// How V_j and ∫φ_j∇φ_i are evaluated.
+        node_integrals: NodeIntegrals,
+    },
     /// B-spline MPM of the given degree.
     Bsmpm {
         /// Polynomial degree p ≥ 1.
@@ -49,12 +101,38 @@ pub enum Method {
 }
 
 impl Method {
-    /// A short label for charts and tables.
+    /// DDMPM with exactly integrated node integrals, hompm's default.
+    pub const DDMPM: Method = Method::Ddmpm {
+        node_integrals: NodeIntegrals::Exact,
+    };
+
+    /// DDMPM with particle-quadrature node integrals.
+    pub const DDMPM_PARTICLES: Method = Method::Ddmpm {
+        node_integrals: NodeIntegrals::Particles,
+    };
+
+    /// DDMPM with n subpoints per particle for its node integrals.
+    pub fn ddmpm_subpoints(n: usize) -> Method {
+        Method::Ddmpm {
+            node_integrals: NodeIntegrals::Subpoints(n),
+        }
+    }
+
+    /// DDMPM with n subpoints per particle, both ends of its domain included.
+    pub fn ddmpm_end_subpoints(n: usize) -> Method {
+        Method::Ddmpm {
+            node_integrals: NodeIntegrals::EndSubpoints(n),
+        }
+    }
+
+    /// A short label for charts and tables: "DDMPM" for the exact
+    /// integrals, "DDMPM (particle quadrature)", "DDMPM (8 subpoints)".
     pub fn label(&self) -> String {
-        match self {
+        match *self {
             Method::Mpm => "MPM".into(),
             Method::MpmP2 => "MPM-P2".into(),
-            Method::Ddmpm => "DDMPM".into(),
+            Method::DDMPM => "DDMPM".into(),
+            Method::Ddmpm { node_integrals } => format!("DDMPM ({})", node_integrals.label()),
             Method::Bsmpm { degree } => format!("BSMPM-p{degree}"),
         }
     }
@@ -74,10 +152,31 @@ pub struct Shape {
 
 #[derive(Debug, Clone)]
 struct DualDomain {
+    /// The rule that filled the integrals.
+    rule: NodeIntegrals,
     /// V_j = ∫ φ_j.
     node_volume: Vec<f64>,
     /// g[j] = [∫ φ_j ∇φ_{j−1}, ∫ φ_j ∇φ_j, ∫ φ_j ∇φ_{j+1}].
     g: Vec<[f64; 3]>,
+}
+
+impl DualDomain {
+    /// Adds one quadrature point x with weight w to V_j and ∫φ_j∇φ_i
+    /// (P1: the two functions of the element of x).
+    fn add_point(&mut self, basis: &LagrangeBasis, x: f64, w: f64) -> Result<()> {
+        let mut phi = [0.0; 2];
+        let mut grad = [0.0; 2];
+        let k = basis.evaluate_into(x, &mut phi, &mut grad)?;
+        for (a_, &phi_j) in phi.iter().enumerate() {
+            let j = k + a_;
+            self.node_volume[j] += w * phi_j;
+            for (b_, &grad_i) in grad.iter().enumerate() {
+                // slot = i − j + 1 with i = k + b_.
+                self.g[j][b_ + 1 - a_] += w * phi_j * grad_i;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The two families of grid bases, held concretely so that the per-particle
@@ -116,33 +215,27 @@ impl std::fmt::Debug for Grid {
 
 /// The node integrals of DDMPM, TLS paper §3.3: V_j = ∫_Ω φ_j dΩ and
 /// ∫_Ω φ_j ∇φ_i dΩ, exactly by two Gauss points per element.
-fn dual_domain(basis: &dyn Basis1d) -> Result<DualDomain> {
+fn dual_domain(basis: &LagrangeBasis) -> Result<DualDomain> {
     let n = basis.num_basis();
-    let mut node_volume = vec![0.0; n];
-    let mut g = vec![[0.0; 3]; n];
+    let mut dual = DualDomain {
+        rule: NodeIntegrals::Exact,
+        node_volume: vec![0.0; n],
+        g: vec![[0.0; 3]; n],
+    };
     let rule = GaussLegendre::new(2)?;
     for (c0, c1) in basis.cells() {
         for q in rule.on_interval(c0, c1) {
-            let loc = basis.local(q.x, 1)?;
-            for (a_, &phi_j) in loc.values().iter().enumerate() {
-                let j = loc.first + a_;
-                node_volume[j] += q.weight * phi_j;
-                for (b_, &grad_i) in loc.gradients().iter().enumerate() {
-                    let i = loc.first + b_;
-                    let slot = (i as isize - j as isize + 1) as usize;
-                    g[j][slot] += q.weight * phi_j * grad_i;
-                }
-            }
+            dual.add_point(basis, q.x, q.weight)?;
         }
     }
-    Ok(DualDomain { node_volume, g })
+    Ok(dual)
 }
 
 impl Grid {
     /// A grid of `cells` equal elements (or knot spans) on [a, b].
     pub fn new(method: Method, a: f64, b: f64, cells: usize) -> Result<Self> {
         let basis = match method {
-            Method::Mpm | Method::Ddmpm => {
+            Method::Mpm | Method::Ddmpm { .. } => {
                 GridBasis::Lagrange(LagrangeBasis::new(a, b, cells, LagrangeOrder::Linear)?)
             }
             Method::MpmP2 => {
@@ -168,8 +261,28 @@ impl Grid {
             .chain(spans.iter().map(|c| c.1))
             .collect();
         grid.breaks = grid.basis().gradient_breaks();
-        if method == Method::Ddmpm {
-            grid.dual = Some(dual_domain(grid.basis())?);
+        if let Method::Ddmpm { node_integrals } = method {
+            match node_integrals {
+                NodeIntegrals::Subpoints(0) => {
+                    return Err(Error::InvalidArgument(
+                        "DDMPM needs at least one subpoint per particle".into(),
+                    ))
+                }
+                NodeIntegrals::EndSubpoints(n) if n < 2 => {
+                    return Err(Error::InvalidArgument(format!(
+                        "subpoints that include both ends of a particle need n ≥ 2, got {n}"
+                    )))
+                }
+                _ => {}
+            }
+            // Every rule starts from the exact integrals, so that the basis
+            // can be evaluated before the first refresh.
+            let GridBasis::Lagrange(basis) = &grid.basis else {
+                unreachable!("DDMPM is built on P1 Lagrange functions above");
+            };
+            let mut dual = dual_domain(basis)?;
+            dual.rule = node_integrals;
+            grid.dual = Some(dual);
         }
         Ok(grid)
     }
@@ -234,9 +347,64 @@ impl Grid {
     /// than four DOFs).
     pub fn stencil_width(&self) -> usize {
         match self.method {
-            Method::Ddmpm => self.num_dofs().min(4),
+            Method::Ddmpm { .. } => self.num_dofs().min(4),
             _ => self.degree() + 1,
         }
+    }
+
+    /// Re-evaluates the DDMPM node integrals V_j and ∫φ_j∇φ_i from the
+    /// particles at `positions` with `volumes` (TLS paper §3.3), by the
+    /// grid's [`NodeIntegrals`] rule: particle quadrature, or n subpoints per
+    /// particle (a subpoint beyond the grid is moved onto its end; a
+    /// particle beyond it is an error). Does nothing for the exact
+    /// rule and for the other methods. O(particles × subpoints), no
+    /// allocation.
+    pub fn refresh_node_integrals(&mut self, positions: &[f64], volumes: &[f64]) -> Result<()> {
+        let (GridBasis::Lagrange(basis), Some(dd)) = (&self.basis, &mut self.dual) else {
+            return Ok(());
+        };
+        // Subpoint s of n sits at x_p + V_p·(t_s − ½), t_s in [0, 1].
+        let (n, position): (usize, fn(usize, usize) -> f64) = match dd.rule {
+            NodeIntegrals::Exact => return Ok(()),
+            NodeIntegrals::Particles => (1, |_, _| 0.5),
+            NodeIntegrals::Subpoints(n) => (n, |s, n| (s as f64 + 0.5) / n as f64),
+            NodeIntegrals::EndSubpoints(n) => (n, |s, n| s as f64 / (n - 1) as f64),
+        };
+        if positions.len() != volumes.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{} positions but {} volumes",
+                positions.len(),
+                volumes.len()
+            )));
+        }
+        let (a, b) = basis.domain();
+        dd.node_volume.fill(0.0);
+        dd.g.fill([0.0; 3]);
+        for (&x, &v) in positions.iter().zip(volumes) {
+            crate::error::finite("particle volume", v)?;
+            if !(a..=b).contains(&x) {
+                crate::error::finite("position", x)?;
+                return Err(Error::OutsideDomain { x, a, b });
+            }
+            let w = v / n as f64;
+            for s in 0..n {
+                let offset = v * (position(s, n) - 0.5);
+                dd.add_point(basis, (x + offset).clamp(a, b), w)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The DDMPM node volumes V_j as last evaluated (empty for the other
+    /// methods).
+    pub fn node_volumes(&self) -> &[f64] {
+        self.dual.as_ref().map_or(&[], |d| &d.node_volume)
+    }
+
+    /// The DDMPM node integrals ∫φ_j∇φ_i as last evaluated, per node j:
+    /// [i = j − 1, j, j + 1] (empty for the other methods).
+    pub fn node_gradient_integrals(&self) -> &[[f64; 3]] {
+        self.dual.as_ref().map_or(&[], |d| &d.g)
     }
 
     /// Empty stencils of this grid's width for `points` points.
@@ -373,7 +541,12 @@ fn dual_domain_gradients(
     values[k + 1 - first] = phi[1];
     for (a_, &phi_j) in phi.iter().enumerate() {
         let j = k + a_;
-        // (1 − α) φ_j / V_j, shared by the three ∇φ_i that φ_j meets.
+        // (1 − α) φ_j / V_j, shared by the three ∇φ_i that φ_j meets. A node
+        // that no particle reaches (V_j = 0 under a particle rule) carries no
+        // dual-domain stress, so its term is dropped instead of dividing by 0.
+        if dd.node_volume[j] <= 0.0 {
+            continue;
+        }
         let weight = (1.0 - alpha) * phi_j / dd.node_volume[j];
         for (slot, gji) in dd.g[j].iter().enumerate() {
             let Some(i) = (j + slot).checked_sub(1).filter(|&i| i < n) else {

@@ -233,6 +233,8 @@ impl Simulation {
     /// break counts for the crossing monitor, and what the mappings need
     /// (particles binned by cell, quadrature stencils).
     fn evaluate_basis_at_particles(&mut self) -> Result<()> {
+        self.grid
+            .refresh_node_integrals(&self.particles.x, &self.particles.volume)?;
         let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
         if ws.strain_increment.len() != p.len() {
             ws.strain_increment.resize(p.len(), 0.0);

@@ -28,7 +28,7 @@ use crate::studies::failures::FailureCases;
 use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
 use crate::studies::report::{ConvergenceLine, ReportStudies};
 use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
-use crate::tables::{self, RunOptions, Status, TableReport};
+use crate::tables::{self, RunOptions, Status, TableReport, Tolerance};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -110,7 +110,8 @@ pub const LONGEST_TABLES: [&str; 1] = ["mls-aligned"];
 /// The cells that reproduced, per table: the regression baseline.
 pub type Baseline = BTreeMap<String, Vec<[usize; 2]>>;
 
-/// The reproduced cells of a set of reports.
+/// The reproduced cells of a set of reports, except measured wall times
+/// ([`Tolerance::Timing`]), which vary from run to run.
 pub fn baseline_of(reports: &[TableReport]) -> Baseline {
     reports
         .iter()
@@ -122,7 +123,9 @@ pub fn baseline_of(reports: &[TableReport]) -> Baseline {
                 .flat_map(|(i, row)| {
                     row.iter()
                         .enumerate()
-                        .filter(|(_, s)| **s == Status::Reproduced)
+                        .filter(move |(j, s)| {
+                            **s == Status::Reproduced && r.tolerance[i][*j] != Tolerance::Timing
+                        })
                         .map(move |(j, _)| [i, j])
                 })
                 .collect();

@@ -42,7 +42,8 @@ pub struct ColumnParameters {
     /// Small- or large-strain update.
     pub constitutive: Constitutive,
     /// If set, the body force ramps linearly from zero to `gravity` over this
-    /// time (column compaction, TLS paper §6.2).
+    /// time (column compaction, TLS paper §6.2). Left out of JSON when unset.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub ramp_time: Option<f64>,
 }
 

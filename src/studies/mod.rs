@@ -215,13 +215,13 @@ pub fn work_precision_variants() -> Vec<Variant> {
         },
         Variant {
             label: "DDMPM",
-            method: Method::Ddmpm,
+            method: Method::DDMPM,
             mapping: Mapping::Direct,
             mass: MassMatrix::Lumped,
         },
         Variant {
             label: "DDMPM + TLS (consistent)",
-            method: Method::Ddmpm,
+            method: Method::DDMPM,
             mapping: Mapping::Tls,
             mass: chol,
         },
@@ -306,7 +306,7 @@ pub fn speed_variants() -> Vec<Variant> {
     };
     vec![
         variant("MPM", Method::Mpm, Mapping::Direct, MassMatrix::Lumped),
-        variant("DDMPM", Method::Ddmpm, Mapping::Direct, MassMatrix::Lumped),
+        variant("DDMPM", Method::DDMPM, Mapping::Direct, MassMatrix::Lumped),
         variant("BSMPM p=2", bs2, Mapping::Direct, MassMatrix::Lumped),
         variant(
             "BSMPM p=3",
@@ -470,7 +470,7 @@ pub struct StabilityPoint {
 pub fn stability_map(cells: usize) -> Result<Vec<StabilityPoint>> {
     let methods = [
         Method::Mpm,
-        Method::Ddmpm,
+        Method::DDMPM,
         Method::MpmP2,
         Method::Bsmpm { degree: 2 },
         Method::Bsmpm { degree: 3 },

@@ -8,8 +8,10 @@
 //!
 //! Items: [`mass_for`], [`TLS_METHODS`], [`conservation_errors`],
 //! [`conservation_errors_for`], [`ConservationByMethod`], [`conservation_by_mapping`],
-//! [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
-//! [`compaction`], [`stress_errors_against_ulfem`].
+//! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
+//! [`compaction`], [`compaction_uncached`], [`TABLE_8_SUBPOINTS`],
+//! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`],
+//! [`stress_errors_against_ulfem`].
 
 use super::{bar_errors, BarErrors};
 use crate::error::Result;
@@ -19,6 +21,7 @@ use crate::mpm::grid::Method;
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use crate::scenes::{column, vibrating_bar, Discretisation};
 use rayon::prelude::*;
+use serde::Serialize;
 use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 
@@ -33,7 +36,20 @@ pub fn mass_for(mapping: Mapping) -> MassMatrix {
 }
 
 /// The three methods of the TLS paper's tables, in their column order.
-pub const TLS_METHODS: [Method; 3] = [Method::Mpm, Method::Ddmpm, Method::Bsmpm { degree: 2 }];
+pub const TLS_METHODS: [Method; 3] = [Method::Mpm, Method::DDMPM, Method::Bsmpm { degree: 2 }];
+
+/// The method as the TLS paper most likely ran it with `mapping`
+/// (docs/conventions.md, "DDMPM node integrals"): DDMPM's node integrals
+/// use the quadrature of the force integral, the particles for the direct
+/// mapping and the Gauss points (exact for P1) for the TLS and cubic-spline
+/// mappings. Other methods are returned unchanged. TLS paper §3.3 and §5.4.
+pub fn as_paper_ran(method: Method, mapping: Mapping) -> Method {
+    match (method, mapping) {
+        (Method::Ddmpm { .. }, Mapping::Direct) => Method::DDMPM_PARTICLES,
+        (Method::Ddmpm { .. }, _) => Method::DDMPM,
+        (other, _) => other,
+    }
+}
 
 /// (max mass error, max momentum error) of the vibrating bar of TLS paper
 /// Table 2 over 19 steps of 1e-7 s (t = 1.9e-6 s), consistent mass.
@@ -87,11 +103,15 @@ pub fn conservation_by_mapping(
         .collect()
 }
 
-/// The nine method/mapping combinations of TLS paper Fig. 6, in table order.
+/// The nine method/mapping combinations of TLS paper Fig. 6, in table
+/// order, each method [`as_paper_ran`] with its mapping.
 pub fn fig6_variants() -> Vec<(Method, Mapping)> {
     TLS_METHODS
         .into_iter()
-        .flat_map(|m| [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls].map(|map| (m, map)))
+        .flat_map(|m| {
+            [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls]
+                .map(|map| (as_paper_ran(m, map), map))
+        })
         .collect()
 }
 
@@ -148,6 +168,15 @@ pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
     {
         return Ok(r);
     }
+    let run = compaction_uncached(method, mapping)?;
+    if let Ok(mut c) = cache.lock() {
+        c.insert((method, mapping), run);
+    }
+    Ok(run)
+}
+
+/// One uncached compaction run of TLS paper Table 6 ([`compaction`]).
+pub fn compaction_uncached(method: Method, mapping: Mapping) -> Result<CompactionRun> {
     let p = column::parameters("tls-table-6")?;
     let mut sim = p.simulation(&Discretisation::new(
         method,
@@ -163,17 +192,78 @@ pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
         .iter()
         .map(|&x| p.equilibrium_stress(x, sim.time))
         .collect();
-    let run = CompactionRun {
+    Ok(CompactionRun {
         stress_error: relative_l2_error(&sim.particles.stress, &exact)?,
         mass_error: sim.diagnostics.max_mass_error,
         momentum_error: sim.diagnostics.max_momentum_error,
         crossings: sim.diagnostics.grid_crossings,
         max_displacement: sim.particles.u.iter().fold(0.0, |a: f64, u| a.max(u.abs())),
+    })
+}
+
+/// The subpoint counts of TLS paper Table 8.
+pub const TABLE_8_SUBPOINTS: [usize; 7] = [2, 4, 8, 16, 32, 64, 128];
+
+/// One row of TLS paper Table 8: DDMPM whose node integrals use n subpoints
+/// per particle, direct mapping, in the compaction of Table 6.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SubpointRow {
+    /// Subpoints per particle.
+    pub subpoints: usize,
+    /// Relative L2 stress error at t = 0.5 s.
+    pub stress_error: f64,
+    /// Wall time of the run, seconds (setup and 5000 steps).
+    pub seconds: f64,
+}
+
+/// TLS paper Table 8 as measured here: the reference DDMPM-TLS run (exact
+/// node integrals, the Gauss points of the TLS mapping) and one
+/// [`SubpointRow`] per count of `counts`, for the node-integral rule
+/// `rule(n)`. The runs are sequential on one thread, so that their wall
+/// times are comparable; each time is the best of `repeats` runs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SubpointStudy {
+    /// Stress error of DDMPM-TLS.
+    pub tls_error: f64,
+    /// Wall time of DDMPM-TLS, seconds.
+    pub tls_seconds: f64,
+    /// One row per subpoint count.
+    pub rows: Vec<SubpointRow>,
+}
+
+/// Runs [`SubpointStudy`] for `counts` with `method_for(n)` the DDMPM variant.
+pub fn subpoint_study(
+    counts: &[usize],
+    method_for: fn(usize) -> Method,
+    repeats: usize,
+) -> Result<SubpointStudy> {
+    let timed = |method: Method, mapping: Mapping| -> Result<(f64, f64)> {
+        let mut best = f64::INFINITY;
+        let mut error = f64::NAN;
+        for _ in 0..repeats.max(1) {
+            let start = std::time::Instant::now();
+            error = compaction_uncached(method, mapping)?.stress_error;
+            best = best.min(start.elapsed().as_secs_f64());
+        }
+        Ok((error, best))
     };
-    if let Ok(mut c) = cache.lock() {
-        c.insert((method, mapping), run);
-    }
-    Ok(run)
+    let (tls_error, tls_seconds) = timed(Method::DDMPM, Mapping::Tls)?;
+    let rows = counts
+        .iter()
+        .map(|&n| {
+            let (stress_error, seconds) = timed(method_for(n), Mapping::Direct)?;
+            Ok(SubpointRow {
+                subpoints: n,
+                stress_error,
+                seconds,
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(SubpointStudy {
+        tls_error,
+        tls_seconds,
+        rows,
+    })
 }
 
 /// Relative L2 stress errors against a ULFEM reference (`ref_elements`

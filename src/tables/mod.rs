@@ -91,6 +91,9 @@ pub enum ToleranceKind {
     AtLeast,
     /// A qualitative claim read as an upper bound (MLS paper, `mls-aligned`).
     AtMost,
+    /// A ratio of wall times measured on this machine (TLS paper Table 8):
+    /// within a factor of 2.
+    Timing,
     /// A documented relative tolerance.
     Relative {
         /// The relative tolerance.
@@ -115,6 +118,7 @@ impl From<ToleranceKind> for Tolerance {
             ToleranceKind::StatedOrder => Tolerance::STATED_ORDER,
             ToleranceKind::AtLeast => Tolerance::AtLeast,
             ToleranceKind::AtMost => Tolerance::AtMost,
+            ToleranceKind::Timing => Tolerance::Timing,
             ToleranceKind::Relative { value } => Tolerance::Relative(value),
             ToleranceKind::Absolute { value } => Tolerance::Absolute(value),
         }
@@ -225,6 +229,11 @@ pub enum Tolerance {
     AtLeast,
     /// computed ≤ published (a claim read as an upper bound).
     AtMost,
+    /// A wall-time ratio, measured: |log₂(computed/published)| ≤ 1. Wall
+    /// time depends on the machine and the code, so this only asks whether
+    /// the cost is of the same size (docs/conventions.md); such cells are
+    /// left out of the regression baseline.
+    Timing,
 }
 
 impl Tolerance {
@@ -252,6 +261,9 @@ impl Tolerance {
             Tolerance::Absolute(tol) => (computed - published).abs() <= tol,
             Tolerance::AtLeast => computed >= published,
             Tolerance::AtMost => computed <= published,
+            Tolerance::Timing => {
+                computed > 0.0 && published > 0.0 && (computed / published).log2().abs() <= 1.0
+            }
             Tolerance::MachinePrecision => {
                 let c = computed.abs().max(1e-300);
                 let p = published.abs().max(1e-300);

@@ -12,7 +12,9 @@
 //!   against ULFEM for the large-deformation bar;
 //! - `tls-fig6` (Fig. 6): convergence orders of nine method/mapping pairs;
 //! - `tls-fig9` (Fig. 9): stress-error factors against ULFEM;
-//! - `tls-7` and `tls-fig10` (Table 7, Fig. 10): the column compaction.
+//! - `tls-7` and `tls-fig10` (Table 7, Fig. 10): the column compaction;
+//! - `tls-8` (Table 8): DDMPM whose node integrals use n subpoints per
+//!   particle in the compaction, against DDMPM-TLS, with measured run times.
 //!
 //! Items: [`tables`].
 
@@ -24,8 +26,9 @@ use crate::studies::tls_example::{
     example_reconstructions, relative_integral_error, rms_error, spreads, Spread, EXAMPLE_SEED,
 };
 use crate::studies::tls_paper::{
-    compaction, conservation_by_mapping, conservation_errors, conservation_errors_for, fig6_errors,
-    fig6_variants, fitted_order, stress_errors_against_ulfem, ConservationByMethod, TLS_METHODS,
+    as_paper_ran, compaction, conservation_by_mapping, conservation_errors,
+    conservation_errors_for, fig6_errors, fig6_variants, fitted_order, stress_errors_against_ulfem,
+    subpoint_study, ConservationByMethod, SubpointStudy, TABLE_8_SUBPOINTS, TLS_METHODS,
 };
 use crate::studies::BarErrors;
 use rayon::prelude::*;
@@ -52,7 +55,7 @@ fn spread_notes() -> Result<Vec<String>> {
 fn paper_name(method: Method) -> String {
     match method {
         Method::Mpm => "MPM".into(),
-        Method::Ddmpm => "DDMPM".into(),
+        Method::Ddmpm { .. } => "DDMPM".into(),
         Method::Bsmpm { degree: 2 } => "BSMPM".into(),
         other => other.label(),
     }
@@ -177,7 +180,76 @@ pub fn tables() -> Vec<TableSpec> {
         tls_fig9(),
         tls_7(),
         tls_fig10(),
+        tls_8(),
     ]
+}
+
+/// The rows of `tls-8` from a subpoint study: E, E/E_TLS, t/t_TLS.
+fn subpoint_rows(study: &SubpointStudy) -> Vec<LabelledRow> {
+    study
+        .rows
+        .iter()
+        .map(|r| {
+            Computed::row(
+                format!("{} subpoints", r.subpoints),
+                [
+                    r.stress_error,
+                    r.stress_error / study.tls_error,
+                    r.seconds / study.tls_seconds,
+                ],
+            )
+        })
+        .collect()
+}
+
+fn tls_8() -> TableSpec {
+    TableSpec {
+        id: "tls-8",
+        published_json: include_str!("../../golden/published/tls-8.json"),
+        setup: "The column compaction of tls-fig10 (TLS paper Table 6; 50 elements, 20 PPC, Δt = 1e-4 s, \
+                0.5 s). DDMPM with the direct mapping and lumped mass, whose node integrals V_j and \
+                ∫φ_j∇φ_i are re-evaluated every step over n subpoints per particle: the midpoints of n \
+                equal parts of [x_p − V_p/2, x_p + V_p/2], weight V_p/n each (after Dhakal and Zhang 2016; \
+                the seeds do not define the scheme, docs/conventions.md). E_TLS and t_TLS: DDMPM + TLS with \
+                exact node integrals. Wall times measured here, the runs one after another on one thread \
+                (best of 3 with --full, else one run): a factor-of-2 check only.",
+        compute: |o| {
+            if o.quick {
+                return Ok(Computed::skipped_in_quick_mode());
+            }
+            let repeats = if o.full { 3 } else { 1 };
+            let midpoints = subpoint_study(&TABLE_8_SUBPOINTS, Method::ddmpm_subpoints, repeats)?;
+            let ends = subpoint_study(&TABLE_8_SUBPOINTS, Method::ddmpm_end_subpoints, 1)?;
+            let particles = compaction(Method::DDMPM_PARTICLES, Mapping::Direct)?;
+            let exact = compaction(Method::DDMPM, Mapping::Direct)?;
+            let list = |st: &SubpointStudy| {
+                st.rows
+                    .iter()
+                    .map(|r| format!("{} {:.4e}", r.subpoints, r.stress_error))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let notes = vec![
+                format!(
+                    "E_TLS (DDMPM + TLS, exact node integrals) = {:.4e}, t_TLS = {:.3} s",
+                    midpoints.tls_error, midpoints.tls_seconds
+                ),
+                format!(
+                    "limits: one point per particle (particle quadrature) E = {:.4e}; exact node integrals E = {:.4e}",
+                    particles.stress_error, exact.stress_error
+                ),
+                format!(
+                    "placement sensitivity, n subpoints including both ends of the particle domain: {}",
+                    list(&ends)
+                ),
+            ];
+            Ok(Computed {
+                rows: subpoint_rows(&midpoints),
+                notes,
+                study: Some(serde_json::json!({ "midpoints": midpoints, "ends": ends })),
+            })
+        },
+    }
 }
 
 fn tls_3() -> TableSpec {
@@ -191,10 +263,13 @@ fn tls_3() -> TableSpec {
                 with v the projected nodal velocity before the boundary velocities are zeroed. TLS: \
                 quadratic, 2 Gauss points per element; cubic spline: not-a-knot, thesis half-span rule.",
         compute: |_| {
-            let rows = conservation_rows(conservation_by_mapping(|m, map| conservation_errors(m, map, 40, 12))?);
+            let run = |m, map| conservation_errors(m, map, 40, 12);
+            let rows = conservation_rows(conservation_by_mapping(run)?);
             Ok(Computed {
                 rows,
                 notes: vec![
+                    ddmpm_rule_note(),
+                    particle_quadrature_conservation_note(run)?,
                     "The cubic-spline momentum 'error' equals the midpoint-rule error of the particle sum Σ m_p v_p \
                      against the exact ∫ρv (1.7849e-6 at t = 0): the spline integral is nearly exact, the particle \
                      sum is not."
@@ -258,9 +333,19 @@ fn tls_fig10() -> TableSpec {
                 return Ok(Computed::skipped_in_quick_mode());
             }
             let maps = [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls];
+            // The published cells, each method as the paper ran it, and the
+            // other DDMPM rule with each mapping (hompm's findings).
+            let other_ddmpm = |map: Mapping| {
+                if as_paper_ran(Method::DDMPM, map) == Method::DDMPM {
+                    Method::DDMPM_PARTICLES
+                } else {
+                    Method::DDMPM
+                }
+            };
             let jobs: Vec<(Method, Mapping)> = TLS_METHODS
                 .iter()
-                .flat_map(|&m| maps.map(|map| (m, map)))
+                .flat_map(|&m| maps.map(|map| (as_paper_ran(m, map), map)))
+                .chain(maps.map(|map| (other_ddmpm(map), map)))
                 .collect();
             let runs: HashMap<(Method, Mapping), f64> = jobs
                 .par_iter()
@@ -273,18 +358,58 @@ fn tls_fig10() -> TableSpec {
                     (
                         paper_name(m),
                         maps.iter()
-                            .map(|&map| runs.get(&(m, map)).copied())
+                            .map(|&map| runs.get(&(as_paper_ran(m, map), map)).copied())
                             .collect(),
                     )
                 })
                 .collect();
+            let notes = vec![
+                ddmpm_rule_note(),
+                format!(
+                    "DDMPM under the other rule: {}",
+                    maps.iter()
+                        .map(|&map| {
+                            let m = other_ddmpm(map);
+                            format!("{} {:?} {:.4e}", m.label(), map, runs[&(m, map)])
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ];
             Ok(Computed {
                 rows,
-                notes: vec![],
+                notes,
                 ..Default::default()
             })
         },
     }
+}
+
+/// The note every DDMPM entry of the TLS tables carries: which node-integral
+/// rule its cells use.
+fn ddmpm_rule_note() -> String {
+    "DDMPM cells: node integrals V_j and ∫φ_j∇φ_i by particle quadrature with the direct mapping, exact \
+     (the Gauss points of the mapping) with TLS and the cubic spline (docs/conventions.md, 'DDMPM node \
+     integrals'); the other rule is listed beside it"
+        .into()
+}
+
+/// The conservation errors (Error_M, Error_P) of DDMPM with particle-
+/// quadrature node integrals under both reconstructions, for a note.
+fn particle_quadrature_conservation_note(
+    run: impl Fn(Method, Mapping) -> Result<(f64, f64)>,
+) -> Result<String> {
+    let cells = [Mapping::CubicSpline, Mapping::Tls]
+        .into_iter()
+        .map(|map| {
+            run(Method::DDMPM_PARTICLES, map)
+                .map(|(m, p)| format!("{map:?} Error_M {m:.4e}, Error_P {p:.4e}"))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(format!(
+        "DDMPM (particle quadrature) under the other rule: {}",
+        cells.join("; ")
+    ))
 }
 
 fn tls_7() -> TableSpec {
@@ -296,12 +421,18 @@ fn tls_7() -> TableSpec {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode());
             }
-            let rows = conservation_rows(conservation_by_mapping(|m, map| {
-                compaction(m, map).map(|r| (r.mass_error, r.momentum_error))
-            })?);
+            let run = |m, map| {
+                compaction(m, map).map(|r: crate::studies::tls_paper::CompactionRun| {
+                    (r.mass_error, r.momentum_error)
+                })
+            };
+            let rows = conservation_rows(conservation_by_mapping(run)?);
             Ok(Computed {
                 rows,
-                notes: vec![],
+                notes: vec![
+                    ddmpm_rule_note(),
+                    particle_quadrature_conservation_note(run)?,
+                ],
                 ..Default::default()
             })
         },
@@ -316,10 +447,9 @@ fn tls_5() -> TableSpec {
                 large-strain update, 20 elements (knot spans), 8 PPC, Δt = 1e-4 s, 1000 steps (0.1 s); \
                 error measures and mappings as tls-3, consistent mass.",
         compute: |_| {
-            let rows = conservation_rows(conservation_by_mapping(|m, map| {
-                conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000)
-            })?);
-            Ok(Computed { rows, notes: vec![], ..Default::default() })
+            let run = |m, map| conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000);
+            let rows = conservation_rows(conservation_by_mapping(run)?);
+            Ok(Computed { rows, notes: vec![ddmpm_rule_note(), particle_quadrature_conservation_note(run)?], ..Default::default() })
         },
     }
 }
@@ -362,16 +492,25 @@ fn tls_fig9() -> TableSpec {
             let b = Method::Bsmpm { degree: 2 };
             let mpm = (Method::Mpm, Mapping::Direct);
             // The published rows, in the order of golden/published/tls-fig9.json.
-            let rows = [(b, Mapping::CubicSpline), (b, Mapping::Tls), (Method::Ddmpm, Mapping::CubicSpline), (Method::Ddmpm, Mapping::Tls)];
-            let extra = [(Method::Ddmpm, Mapping::Direct), (b, Mapping::Direct)];
+            let rows = [(b, Mapping::CubicSpline), (b, Mapping::Tls), (Method::DDMPM, Mapping::CubicSpline), (Method::DDMPM, Mapping::Tls)];
+            let extra = [
+                (Method::DDMPM_PARTICLES, Mapping::Direct),
+                (b, Mapping::Direct),
+                (Method::DDMPM, Mapping::Direct),
+                (Method::DDMPM_PARTICLES, Mapping::CubicSpline),
+                (Method::DDMPM_PARTICLES, Mapping::Tls),
+            ];
             let variants: Vec<_> = std::iter::once(mpm).chain(rows).chain(extra).collect();
             let e = stress_errors_against_ulfem("tls-table-4", 1000, 20, 8, 1e-4, 1000, &variants)?;
-            let names = ["MPM", "BSMPM+CS", "BSMPM+TLS", "DDMPM+CS", "DDMPM+TLS", "DDMPM", "BSMPM"];
-            let notes: Vec<String> = names.iter().zip(&e).map(|(name, (_, err))| format!("{name} {err:.4e}")).collect();
+            let mpm_error = e[0].1;
+            let notes: Vec<String> = e
+                .iter()
+                .map(|((m, map), err)| format!("{} {map:?} {err:.4e} (factor {:.2})", m.label(), mpm_error / err))
+                .collect();
             let e: HashMap<_, _> = e.into_iter().collect();
             Ok(Computed {
                 rows: rows.iter().map(|&(m, map)| Computed::row(variant_label(m, map), [e[&mpm] / e[&(m, map)]])).collect(),
-                notes: vec![format!("relative L2 stress errors: {}", notes.join(", "))], ..Default::default() })
+                notes: vec![ddmpm_rule_note(), format!("relative L2 stress errors: {}", notes.join(", "))], ..Default::default() })
         },
     }
 }
