@@ -150,7 +150,7 @@ pub fn reproduce(a: ReproduceArgs) -> Result<Output> {
     let built = report::build(reports, &options, studies)?;
     if let Some(path) = &a.docs {
         let notes = include_str!("../../docs/reproduction-notes.md");
-        report::write_file(path, &report::reproduction_markdown(&built, notes))?;
+        report::write_file(path, &report::reproduction_markdown(&built, notes)?)?;
     }
     let baseline: report::Baseline =
         serde_json::from_str(include_str!("../../golden/reproduced.json")).map_err(|e| {
