@@ -68,8 +68,10 @@ pub enum MappingArg {
     Direct,
     /// Taylor least squares (book §4.4.3, TLS paper §5.4).
     Tls,
-    /// Cubic splines (thesis ch. 7).
+    /// Cubic splines (thesis ch. 7), at the thesis' half-span Gauss points.
     CubicSpline,
+    /// Cubic splines with every half span clipped to the continuum Ω_t.
+    CubicSplineClipped,
 }
 
 impl From<MappingArg> for Mapping {
@@ -78,6 +80,7 @@ impl From<MappingArg> for Mapping {
             MappingArg::Direct => Mapping::Direct,
             MappingArg::Tls => Mapping::Tls,
             MappingArg::CubicSpline => Mapping::CubicSpline,
+            MappingArg::CubicSplineClipped => Mapping::CubicSplineClipped,
         }
     }
 }

@@ -54,8 +54,15 @@ pub enum Mapping {
     Direct,
     /// Taylor least squares per cell plus Gauss quadrature.
     Tls,
-    /// Cubic-spline reconstruction at the half-span Gauss points.
+    /// Cubic-spline reconstruction at the half-span Gauss points, restricted
+    /// to Ω_t by the thesis' rule: a half span whose two Gauss points lie in
+    /// Ω_t is kept whole (thesis §7.2, Figs. 7.3–7.4).
     CubicSpline,
+    /// The same splines, with every half span that is not inside Ω_t
+    /// clipped to it: the integrals then end at the free surface exactly
+    /// (issue #11; the rule under which TLS paper Table 7's spline mass
+    /// errors appear, docs/conventions.md).
+    CubicSplineClipped,
 }
 
 /// How the consistent system M^C v = p is solved.
@@ -201,8 +208,15 @@ impl MappingWorkspace {
             self.bin_particles(grid, particles)?;
             self.tls_quadrature_points(grid)?;
         }
-        if mappings.contains(&Mapping::CubicSpline) {
-            self.spline_quadrature_points(grid, particles)?;
+        let thesis = mappings.contains(&Mapping::CubicSpline);
+        let clipped = mappings.contains(&Mapping::CubicSplineClipped);
+        if thesis && clipped {
+            return Err(Error::InvalidArgument(
+                "the force and velocity mappings use two different cubic-spline quadratures".into(),
+            ));
+        }
+        if thesis || clipped {
+            self.spline_quadrature_points(grid, particles, clipped)?;
         }
         Ok(())
     }
@@ -235,7 +249,14 @@ impl MappingWorkspace {
     /// §7.2, Figs. 7.3–7.4): on each half span, both points are kept if both
     /// lie inside; otherwise the 2-point rule is redefined on the part of the
     /// half span inside Ω_t, and the half span is dropped if it misses Ω_t.
-    fn spline_quadrature_points(&mut self, grid: &Grid, particles: &Particles) -> Result<()> {
+    /// With `clip_every_half_span`, a half span is kept whole only if it
+    /// lies inside Ω_t ([`Mapping::CubicSplineClipped`]).
+    fn spline_quadrature_points(
+        &mut self,
+        grid: &Grid,
+        particles: &Particles,
+        clip_every_half_span: bool,
+    ) -> Result<()> {
         let (left, right) = continuum(particles);
         let q = &mut self.spline_quadrature;
         q.clear();
@@ -246,8 +267,12 @@ impl MappingWorkspace {
                 .into_iter()
                 .zip([(a, m), (m, b)])
             {
-                let inside = pair.iter().filter(|q| q.x >= left && q.x <= right).count();
-                if inside == 2 {
+                let keep_whole = if clip_every_half_span {
+                    c >= left && d <= right
+                } else {
+                    pair.iter().all(|q| q.x >= left && q.x <= right)
+                };
+                if keep_whole {
                     pair.into_iter().for_each(|p| q.push(p, e));
                 } else {
                     let (c2, d2) = (c.max(left), d.min(right));
@@ -360,7 +385,7 @@ pub fn internal_force(
                 force,
             );
         }
-        Mapping::CubicSpline => {
+        Mapping::CubicSpline | Mapping::CubicSplineClipped => {
             let stress = &particles.stress;
             let spare = &mut ws.spare_splines[0];
             let spline = particle_spline(&mut ws.order, &mut ws.sorted, spare, particles, stress)?;
@@ -589,7 +614,7 @@ pub fn assemble_projection(
                 cell_momentum,
             },
         )?,
-        Mapping::CubicSpline => accumulate_spline(
+        Mapping::CubicSpline | Mapping::CubicSplineClipped => accumulate_spline(
             &mut acc,
             particles,
             order,

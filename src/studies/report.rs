@@ -56,6 +56,7 @@ fn convergence() -> Result<Vec<ConvergenceLine>> {
                 Mapping::Direct => "",
                 Mapping::Tls => " + TLS",
                 Mapping::CubicSpline => " + CS",
+                Mapping::CubicSplineClipped => " + CS (clipped)",
             };
             Ok(ConvergenceLine {
                 method: format!("{}{suffix}", m.label()),

@@ -31,7 +31,9 @@ use std::sync::{Mutex, OnceLock};
 pub fn mass_for(mapping: Mapping) -> MassMatrix {
     match mapping {
         Mapping::Direct => MassMatrix::Lumped,
-        Mapping::Tls | Mapping::CubicSpline => MassMatrix::Consistent(ConsistentSolver::Cholesky),
+        Mapping::Tls | Mapping::CubicSpline | Mapping::CubicSplineClipped => {
+            MassMatrix::Consistent(ConsistentSolver::Cholesky)
+        }
     }
 }
 

@@ -408,8 +408,14 @@ impl TableReport {
             self.setup,
             self.unit
         );
+        // Columns as wide as their longest label, at least 12.
+        let cw = self
+            .col_labels
+            .iter()
+            .map(|c| c.chars().count())
+            .fold(12, usize::max);
         s.push_str(&format!(
-            "{:<24} {:<12} {:>14} {:>14} {:>11}  {}\n",
+            "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
             "row", "column", "published", "computed", "deviation", "status"
         ));
         for (r, rl) in self.row_labels.iter().enumerate() {
@@ -430,7 +436,7 @@ impl TableReport {
                         .unwrap_or_default(),
                 };
                 s.push_str(&format!(
-                    "{:<24} {:<12} {:>14} {:>14} {:>11}  {}\n",
+                    "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
                     rl,
                     cl,
                     fmt(p),

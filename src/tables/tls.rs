@@ -67,6 +67,7 @@ fn variant_label(method: Method, mapping: Mapping) -> String {
     let suffix = match mapping {
         Mapping::Direct => "",
         Mapping::CubicSpline => " + cubic spline",
+        Mapping::CubicSplineClipped => " + cubic spline (clipped to Ω_t)",
         Mapping::Tls => " + TLS",
     };
     format!("{}{suffix}", paper_name(method))
@@ -427,11 +428,24 @@ fn tls_7() -> TableSpec {
                 })
             };
             let rows = conservation_rows(conservation_by_mapping(run)?);
+            let clipped = TLS_METHODS
+                .iter()
+                .map(|&m| {
+                    run(m, Mapping::CubicSplineClipped).map(|(e_m, e_p)| {
+                        format!("{} Error_M {e_m:.4e}, Error_P {e_p:.4e}", paper_name(m))
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
             Ok(Computed {
                 rows,
                 notes: vec![
                     ddmpm_rule_note(),
                     particle_quadrature_conservation_note(run)?,
+                    format!(
+                        "cubic spline with every half span clipped to Ω_t (the integrals end at the \
+                         free surface): {}",
+                        clipped.join("; ")
+                    ),
                 ],
                 ..Default::default()
             })
