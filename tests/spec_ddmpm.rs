@@ -297,3 +297,26 @@ fn a_step_refreshes_the_node_integrals_from_the_particles_at_its_start() {
         assert_relative_eq!(total, vs.iter().sum::<f64>(), epsilon = 1e-14);
     }
 }
+
+#[test]
+fn end_subpoints_include_both_ends_of_the_particle_domain() {
+    // x_p = 0.9, V_p = 0.4 on [0, 2] with h = 1: three subpoints at 0.7,
+    // 0.9 and 1.1, weight 0.4/3 each, so V_0 = w(0.3 + 0.1),
+    // V_1 = w(0.7 + 0.9 + 0.9), V_2 = w·0.1. Midpoints (0.7667, 0.9, 1.0333)
+    // would give other values.
+    let w = 0.4 / 3.0;
+    let mut ends = Grid::new(Method::ddmpm_end_subpoints(3), 0.0, 2.0, 2).unwrap();
+    ends.refresh_node_integrals(&[0.9], &[0.4]).unwrap();
+    let v = ends.node_volumes();
+    assert_relative_eq!(v[0], w * 0.4, epsilon = 1e-15);
+    assert_relative_eq!(v[1], w * 2.5, epsilon = 1e-15);
+    assert_relative_eq!(v[2], w * 0.1, epsilon = 1e-15);
+    let mut mid = Grid::new(Method::ddmpm_subpoints(3), 0.0, 2.0, 2).unwrap();
+    mid.refresh_node_integrals(&[0.9], &[0.4]).unwrap();
+    assert!((mid.node_volumes()[2] - w * 0.1).abs() > 1e-3);
+    assert!(Grid::new(Method::ddmpm_end_subpoints(1), 0.0, 1.0, 2).is_err());
+    assert_eq!(
+        Method::ddmpm_end_subpoints(4).label(),
+        "DDMPM (4 subpoints incl. ends)"
+    );
+}

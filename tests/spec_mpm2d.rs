@@ -60,6 +60,11 @@ fn an_inverted_deformation_gradient_is_a_blow_up_error() {
     }
     assert!(NeoHookean::from_young_poisson(1e7, 0.5).is_err());
     assert!(NeoHookean::from_young_poisson(-1.0, 0.3).is_err());
+    // The open ends of E > 0 and −1 < ν: E = 0 and ν = −1 are refused too
+    // (μ = E/(2(1 + ν)) would be 0 or infinite).
+    assert!(NeoHookean::from_young_poisson(0.0, 0.3).is_err());
+    assert!(NeoHookean::from_young_poisson(1e7, -1.0).is_err());
+    assert!(NeoHookean::from_young_poisson(1e7, -0.99).is_ok());
 }
 
 /// b = ü − ∇_X·P/ρ₀ by central differences of the manufactured solution.

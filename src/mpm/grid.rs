@@ -73,11 +73,6 @@ impl NodeIntegrals {
             NodeIntegrals::EndSubpoints(n) => format!("{n} subpoints incl. ends"),
         }
     }
-
-    /// Whether the integrals follow the particles (refreshed every step).
-    pub fn follows_particles(&self) -> bool {
-        !matches!(self, NodeIntegrals::Exact)
-    }
 }
 
 /// The MPM variant, i.e. the basis of the background grid.
