@@ -9,6 +9,8 @@ use hompm::scenes::column;
 use hompm::studies::tls_paper::{compaction, conservation_errors};
 use hompm::tables::{self, Published};
 
+mod common;
+
 fn published(id: &str) -> Published {
     let spec = tables::find(id).unwrap();
     Published::parse(id, spec.published_json).unwrap()
@@ -138,24 +140,18 @@ fn clipping_every_half_span_ends_the_spline_integral_at_the_free_surface() {
     use hompm::mpm::grid::Grid;
     use hompm::mpm::mapping::ConsistentSolver;
     use hompm::mpm::mapping::MassMatrix;
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     use hompm::mpm::particles::Particles;
     // Four cells of size 1 on [0, 4]; the body fills [0, 3.45]: the last
     // half span [3, 3.5] has its Gauss points at 3.106 and 3.394.
     let mass_error = |mapping: Mapping| {
         let grid = Grid::new(Method::Bsmpm { degree: 2 }, 0.0, 4.0, 4).unwrap();
         let particles = Particles::uniform(0.0, 3.45, 30, 2.0).unwrap();
-        let settings = Settings {
-            force_mapping: mapping,
-            velocity_mapping: mapping,
-            mass: MassMatrix::Consistent(ConsistentSolver::Cholesky),
-            constitutive: Constitutive::SmallStrain,
-            young: 10.0,
-            gravity: 0.0,
-            gravity_ramp: None,
-            dirichlet: vec![],
-            consistent_acceleration: false,
-        };
+        let settings = common::free_settings(
+            mapping,
+            MassMatrix::Consistent(ConsistentSolver::Cholesky),
+            10.0,
+        );
         let mut sim = Simulation::new(grid, particles, settings).unwrap();
         sim.step(1e-6).unwrap();
         sim.diagnostics.max_mass_error

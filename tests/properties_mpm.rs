@@ -9,6 +9,8 @@ use hompm::mpm::mapping::{
 use hompm::mpm::particles::Particles;
 use proptest::prelude::*;
 
+mod common;
+
 fn method_strategy() -> impl Strategy<Value = Method> {
     prop_oneof![
         Just(Method::Mpm),
@@ -81,7 +83,7 @@ proptest! {
 /// smoothing sees the empty DOFs beyond a free surface (docs/conventions.md).
 #[test]
 fn rigid_translation_creates_no_stress() {
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     for method in [
         Method::Mpm,
         Method::DDMPM,
@@ -96,17 +98,11 @@ fn rigid_translation_creates_no_stress() {
             };
             let mut p = Particles::uniform(0.0, 1.0, 16, 1.0).unwrap();
             p.v = vec![0.3; 16];
-            let settings = Settings {
-                force_mapping: mapping,
-                velocity_mapping: mapping,
-                mass: MassMatrix::Consistent(ConsistentSolver::Cholesky),
-                constitutive: Constitutive::SmallStrain,
-                young: 10.0,
-                gravity: 0.0,
-                gravity_ramp: None,
-                dirichlet: vec![],
-                consistent_acceleration: false,
-            };
+            let settings = common::free_settings(
+                mapping,
+                MassMatrix::Consistent(ConsistentSolver::Cholesky),
+                10.0,
+            );
             let mut sim = Simulation::new(grid, p, settings).unwrap();
             sim.step(1e-3).unwrap();
             for k in 0..16 {

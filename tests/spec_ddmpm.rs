@@ -10,6 +10,8 @@
 use approx::assert_relative_eq;
 use hompm::mpm::grid::{Grid, Method};
 
+mod common;
+
 /// The DDMPM gradient of every DOF at x, as a dense vector.
 fn ddmpm_gradients(grid: &Grid, x: f64) -> Vec<f64> {
     let s = grid.shape(x).unwrap();
@@ -269,22 +271,12 @@ fn node_integral_rules_refuse_bad_input() {
 #[test]
 fn a_step_refreshes_the_node_integrals_from_the_particles_at_its_start() {
     use hompm::mpm::mapping::{Mapping, MassMatrix};
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     use hompm::mpm::particles::Particles;
     let grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
     let mut p = Particles::uniform(0.0, 1.3, 8, 1.0).unwrap();
     p.v = (0..8).map(|k| 0.1 * k as f64).collect();
-    let settings = Settings {
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        constitutive: Constitutive::SmallStrain,
-        young: 10.0,
-        gravity: 0.0,
-        gravity_ramp: None,
-        dirichlet: vec![],
-        consistent_acceleration: false,
-    };
+    let settings = common::free_settings(Mapping::Direct, MassMatrix::Lumped, 10.0);
     let mut sim = Simulation::new(grid, p, settings).unwrap();
     for _ in 0..3 {
         let (xs, vs) = (sim.particles.x.clone(), sim.particles.volume.clone());

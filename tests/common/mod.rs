@@ -85,3 +85,24 @@ pub fn assert_reproduced(report: &hompm::tables::TableReport, entries: &[(&str, 
         );
     }
 }
+
+/// Run settings with the same mapping for force and velocity, no gravity,
+/// no Dirichlet DOFs and the small-strain update (book Eq. 4.15): the
+/// setting of the hand-built scenes of the spec and property tests.
+pub fn free_settings(
+    mapping: hompm::mpm::mapping::Mapping,
+    mass: hompm::mpm::mapping::MassMatrix,
+    young: f64,
+) -> hompm::mpm::musl::Settings {
+    hompm::mpm::musl::Settings {
+        force_mapping: mapping,
+        velocity_mapping: mapping,
+        mass,
+        constitutive: hompm::mpm::musl::Constitutive::SmallStrain,
+        young,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+    }
+}
