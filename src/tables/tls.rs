@@ -313,6 +313,7 @@ fn tls_fig6() -> TableSpec {
                     e[3].stress
                 ));
             }
+            notes.insert(0, ddmpm_rule_note());
             Ok(Computed { rows, notes, ..Default::default() })
         },
     }
