@@ -10,7 +10,8 @@
 //! [`consistent_mass`], [`consistent_mass_constant`], [`mixed_mass`],
 //! [`lumped_variational`], [`material_point_mass`],
 //! [`material_point_lumped_mass`], [`add_lumped_mass`], [`interior_indices`],
-//! [`with_dirichlet`], [`Kronecker2d`], [`unit_density_mass`],
+//! [`with_dirichlet`], [`Kronecker2d`], [`unit_density_mass`], [`LevelMatrices`],
+//! [`unit_density_levels`],
 //! [`unit_density_mass_2d`].
 
 use crate::error::finite_named;
@@ -290,6 +291,46 @@ pub fn unit_density_mass(spans: usize, degree: usize, dirichlet: bool) -> Result
     let kv = crate::spline::KnotVector::open_uniform(0.0, 1.0, spans, degree)?;
     let m = consistent_mass_constant(&kv, 1.0)?;
     Ok(if dirichlet { with_dirichlet(&m) } else { m })
+}
+
+/// One level of a p-multigrid hierarchy in 1D (book §4.7): the mass
+/// matrix M_q of degree q and, above the coarsest level, the mixed mass
+/// P_ij = ∫ φ_i^q φ_j^{q−1} to the level below.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LevelMatrices {
+    /// M_q.
+    pub mass: SparseMatrix,
+    /// P = ∫ φ^q φ^{q−1} (None on the coarsest level).
+    pub mixed_to_coarser: Option<SparseMatrix>,
+}
+
+/// The book's test problem on every p-multigrid level, coarsest first
+/// (book §4.7, Eqs. 4.59–4.62): degrees 1 … `degree` on the same `spans`
+/// uniform spans of [0, 1] with maximal continuity, ρ = 1, each matrix with
+/// the first and last function removed when `dirichlet` holds.
+pub fn unit_density_levels(
+    spans: usize,
+    degree: usize,
+    dirichlet: bool,
+) -> Result<Vec<LevelMatrices>> {
+    let keep = |m: SparseMatrix| if dirichlet { with_dirichlet(&m) } else { m };
+    let bases: Vec<crate::spline::KnotVector> = (1..=degree)
+        .map(|q| crate::spline::KnotVector::open_uniform(0.0, 1.0, spans, q))
+        .collect::<Result<_>>()?;
+    (0..degree)
+        .map(|q| {
+            let mass = keep(consistent_mass_constant(&bases[q], 1.0)?);
+            let mixed_to_coarser = if q == 0 {
+                None
+            } else {
+                Some(keep(mixed_mass(&bases[q], &bases[q - 1], q + 2)?))
+            };
+            Ok(LevelMatrices {
+                mass,
+                mixed_to_coarser,
+            })
+        })
+        .collect()
 }
 
 /// The 2D matrix of the book's tables, M_y ⊗ M_x with both factors

@@ -105,3 +105,39 @@ fn a_two_grid_cycle_removes_a_smooth_error_that_smoothing_barely_touches() {
         "one cycle: {with:e} with, {without:e} without the correction"
     );
 }
+
+/// The hierarchy takes any 1D level matrices (issue #14): with ρ = 3 every
+/// mass and mixed mass is three times the book's, the transfers M⁻¹P are
+/// unchanged, and the V-cycle solves M x = f in as many cycles as for
+/// ρ = 1. A level without its mixed matrix is refused.
+#[test]
+fn the_hierarchy_takes_other_level_matrices_than_the_books() {
+    use hompm::mass::{unit_density_levels, LevelMatrices};
+    let book = unit_density_levels(SPANS, 3, true).unwrap();
+    let dense: Vec<LevelMatrices> = book
+        .iter()
+        .map(|l| LevelMatrices {
+            mass: l.mass.scale_rows(&vec![3.0; l.mass.rows()]),
+            mixed_to_coarser: l
+                .mixed_to_coarser
+                .as_ref()
+                .map(|p| p.scale_rows(&vec![3.0; p.rows()])),
+        })
+        .collect();
+    let options = PMultigridOptions::default();
+    let unit = PMultigrid::from_levels(&book, 1, options).unwrap();
+    let heavy = PMultigrid::from_levels(&dense, 1, options).unwrap();
+    let f: Vec<f64> = (0..unit.matrix().rows())
+        .map(|i| (i as f64).sin())
+        .collect();
+    let a = unit.solve(&f, 1e-10, 100).unwrap();
+    let b = heavy.solve(&f, 1e-10, 100).unwrap();
+    assert_eq!(a.iterations, b.iterations);
+    for (x, y) in a.solution.iter().zip(&b.solution) {
+        assert_relative_eq!(3.0 * y, *x, max_relative = 1e-8, epsilon = 1e-12);
+    }
+    let mut broken = book.clone();
+    broken[2].mixed_to_coarser = None;
+    assert!(PMultigrid::from_levels(&broken, 1, options).is_err());
+    assert!(PMultigrid::from_levels(&[], 1, options).is_err());
+}

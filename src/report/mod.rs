@@ -166,15 +166,6 @@ fn fmt(v: Option<f64>) -> String {
     })
 }
 
-fn status_word(s: Status, published: Option<f64>) -> &'static str {
-    match (published, s) {
-        (None, _) => "extra",
-        (_, Status::Reproduced) => "reproduced",
-        (_, Status::Deviates) => "deviates",
-        (_, Status::NotComputed) => "not computed",
-    }
-}
-
 /// The markdown section of one table.
 pub fn table_markdown(r: &TableReport, chart: Option<&str>) -> String {
     let (rep, total) = r.counts();
@@ -185,20 +176,18 @@ pub fn table_markdown(r: &TableReport, chart: Option<&str>) -> String {
     s.push_str(
         "| row | column | published | computed | deviation | status |\n|---|---|---|---|---|---|\n",
     );
-    for (i, rl) in r.row_labels.iter().enumerate() {
-        for (j, cl) in r.col_labels.iter().enumerate() {
-            let (p, c) = (r.published[i][j], r.computed[i][j]);
-            if p.is_none() && c.is_none() {
-                continue;
-            }
-            let dev = r.deviation[i][j].map_or("—".into(), |d| format!("{:+.3} %", 100.0 * d));
-            s.push_str(&format!(
-                "| {rl} | {cl} | {} | {} | {dev} | {} |\n",
-                fmt(p),
-                fmt(c),
-                status_word(r.status[i][j], p)
-            ));
-        }
+    for e in r.entries() {
+        let dev = e
+            .deviation
+            .map_or("—".into(), |d| format!("{:+.3} %", 100.0 * d));
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {dev} | {} |\n",
+            e.row,
+            e.column,
+            fmt(e.published),
+            fmt(e.computed),
+            e.status_word()
+        ));
     }
     for n in &r.notes {
         s.push_str(&format!("\n> {n}\n"));
@@ -218,37 +207,37 @@ pub fn reproduction_markdown(report: &ReportJson, notes: &str) -> Result<String>
     let mut lines = String::new();
     let (mut demonstrated, mut hypotheses, mut unexplained) = (0, 0, 0);
     for r in &report.tables {
-        for (i, rl) in r.row_labels.iter().enumerate() {
-            for (j, cl) in r.col_labels.iter().enumerate() {
-                let Some(p) = r.published[i][j] else { continue };
-                let dev =
-                    r.deviation[i][j].map_or("—".into(), |d| format!("{:+.3} %", 100.0 * d));
-                let cause = if r.status[i][j] == Status::Deviates {
-                    match causes::cause_of(&rules, &r.id, rl, cl) {
-                        Some(c) if c.kind == causes::CauseKind::Demonstrated => {
-                            demonstrated += 1;
-                            format!("**demonstrated**: {} ({})", c.cause, c.evidence)
-                        }
-                        Some(c) => {
-                            hypotheses += 1;
-                            format!("hypothesis: {} ({})", c.cause, c.evidence)
-                        }
-                        None => {
-                            unexplained += 1;
-                            "**no cause recorded**".into()
-                        }
+        for e in r.entries().filter(|e| e.published.is_some()) {
+            let dev = e
+                .deviation
+                .map_or("—".into(), |d| format!("{:+.3} %", 100.0 * d));
+            let cause = if e.status == Status::Deviates {
+                match causes::cause_of(&rules, &r.id, e.row, e.column) {
+                    Some(c) if c.kind == causes::CauseKind::Demonstrated => {
+                        demonstrated += 1;
+                        format!("**demonstrated**: {} ({})", c.cause, c.evidence)
                     }
-                } else {
-                    String::new()
-                };
-                lines.push_str(&format!(
-                    "| `{}` | {rl} | {cl} | {} | {} | {dev} | {} | {cause} |\n",
-                    r.id,
-                    fmt(Some(p)),
-                    fmt(r.computed[i][j]),
-                    status_word(r.status[i][j], Some(p))
-                ));
-            }
+                    Some(c) => {
+                        hypotheses += 1;
+                        format!("hypothesis: {} ({})", c.cause, c.evidence)
+                    }
+                    None => {
+                        unexplained += 1;
+                        "**no cause recorded**".into()
+                    }
+                }
+            } else {
+                String::new()
+            };
+            lines.push_str(&format!(
+                "| `{}` | {} | {} | {} | {} | {dev} | {} | {cause} |\n",
+                r.id,
+                e.row,
+                e.column,
+                fmt(e.published),
+                fmt(e.computed),
+                e.status_word()
+            ));
         }
     }
     let mut s = String::from("# Reproduction status\n\n");

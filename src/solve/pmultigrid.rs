@@ -28,9 +28,8 @@ use super::cg::{conjugate_gradient, CgVariant};
 use super::direct::cholesky_solve;
 use super::{check_rhs, norm, IterativeResult};
 use crate::error::{Error, Result};
-use crate::mass::{consistent_mass_constant, interior_indices, mixed_mass, Kronecker2d};
+use crate::mass::{unit_density_levels, Kronecker2d, LevelMatrices};
 use crate::sparse::SparseMatrix;
-use crate::spline::KnotVector;
 
 /// The smoother S of Eq. (4.60).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,29 +119,13 @@ struct Level {
     restriction: Option<LevelMap>,
 }
 
-/// The p-multigrid hierarchy for the tensor-product mass matrix with ρ = 1 on
-/// the unit interval or square (book §4.7's test problem).
+/// The p-multigrid hierarchy for a tensor-product mass matrix (book §4.7):
+/// [`PMultigrid::unit_mass`] builds the book's ρ = 1 test problem,
+/// [`PMultigrid::from_levels`] any other.
 #[derive(Debug, Clone)]
 pub struct PMultigrid {
     levels: Vec<Level>,
     options: PMultigridOptions,
-}
-
-fn keep(m: &SparseMatrix, dirichlet: bool, rows: bool, cols: bool) -> SparseMatrix {
-    if !dirichlet {
-        return m.clone();
-    }
-    let r: Vec<usize> = if rows {
-        interior_indices(m.rows())
-    } else {
-        (0..m.rows()).collect()
-    };
-    let c: Vec<usize> = if cols {
-        interior_indices(m.cols())
-    } else {
-        (0..m.cols()).collect()
-    };
-    m.submatrix(&r, &c)
 }
 
 /// M⁻¹ B for a 1D SPD M (column by column, Cholesky), or diag(1/rowsum(M)) B.
@@ -174,9 +157,11 @@ fn inverse_times(m: &SparseMatrix, b: &SparseMatrix, transfer: Transfer) -> Resu
 }
 
 impl PMultigrid {
-    /// Builds the hierarchy for degree `degree` on `spans` uniform spans per
-    /// direction, in `dim` = 1 or 2 dimensions, optionally with homogeneous
-    /// Dirichlet conditions (first and last function removed per direction).
+    /// Builds the hierarchy for the book's test problem (book §4.7): degree
+    /// `degree` on `spans` uniform spans per direction, ρ = 1, in `dim` = 1
+    /// or 2 dimensions, optionally with homogeneous Dirichlet conditions.
+    /// The matrices come from [`crate::mass::unit_density_levels`]; the
+    /// hierarchy itself is [`PMultigrid::from_levels`].
     pub fn unit_mass(
         spans: usize,
         degree: usize,
@@ -192,49 +177,72 @@ impl PMultigrid {
                 "dimension must be 1 or 2, got {dim}"
             )));
         }
-        let bases: Vec<KnotVector> = (1..=degree)
-            .map(|q| KnotVector::open_uniform(0.0, 1.0, spans, q))
-            .collect::<Result<_>>()?;
-        let mass1d: Vec<SparseMatrix> = bases
-            .iter()
-            .map(|b| consistent_mass_constant(b, 1.0).map(|m| keep(&m, dirichlet, true, true)))
-            .collect::<Result<_>>()?;
-        let mut levels = Vec::with_capacity(degree);
-        for q in 0..degree {
+        let levels = unit_density_levels(spans, degree, dirichlet)?;
+        if let Some(q) = levels.iter().position(|l| l.mass.rows() == 0) {
+            return Err(Error::InvalidArgument(format!(
+                "{spans} spans with degree {} leave no interior DOFs",
+                q + 1
+            )));
+        }
+        Self::from_levels(&levels, dim, options)
+    }
+
+    /// Builds the hierarchy from 1D level matrices, coarsest first (book
+    /// Eqs. 4.61–4.62): level q's mass M_q and, from the second level on,
+    /// the mixed mass P = ∫ φ^q φ^{q−1} to the level below. In 2D
+    /// (`dim` = 2) each level is M_q ⊗ M_q and each transfer the Kronecker
+    /// product of the 1D transfers. Any SPD 1D masses with matching mixed
+    /// matrices will do, not only the book's ρ = 1.
+    pub fn from_levels(
+        levels: &[LevelMatrices],
+        dim: usize,
+        options: PMultigridOptions,
+    ) -> Result<Self> {
+        if levels.is_empty() || !(dim == 1 || dim == 2) {
+            return Err(Error::InvalidArgument(format!(
+                "p-multigrid needs at least one level and dimension 1 or 2, got {} levels, dimension {dim}",
+                levels.len()
+            )));
+        }
+        let mut out = Vec::with_capacity(levels.len());
+        for (q, level) in levels.iter().enumerate() {
             let matrix = if dim == 1 {
-                mass1d[q].clone()
+                level.mass.clone()
             } else {
-                SparseMatrix::kron(&mass1d[q], &mass1d[q])
+                SparseMatrix::kron(&level.mass, &level.mass)
             };
-            if matrix.rows() == 0 {
-                return Err(Error::InvalidArgument(format!(
-                    "{spans} spans with degree {} leave no interior DOFs",
-                    q + 1
-                )));
-            }
-            let (prolongation, restriction) = if q == 0 {
-                (None, None)
-            } else {
-                let mixed = mixed_mass(&bases[q], &bases[q - 1], q + 2)?;
-                let mixed = keep(&mixed, dirichlet, true, true);
-                let p1 = inverse_times(&mass1d[q], &mixed, options.transfer)?;
-                let r1 = inverse_times(&mass1d[q - 1], &mixed.transpose(), options.transfer)?;
-                if dim == 1 {
-                    (Some(LevelMap::OneD(p1)), Some(LevelMap::OneD(r1)))
-                } else {
-                    (
-                        Some(LevelMap::TwoD(Kronecker2d::new(p1.clone(), p1))),
-                        Some(LevelMap::TwoD(Kronecker2d::new(r1.clone(), r1))),
-                    )
+            let (prolongation, restriction) = match (q, &level.mixed_to_coarser) {
+                (0, _) => (None, None),
+                (_, None) => {
+                    return Err(Error::InvalidArgument(format!(
+                        "level {q} has no mixed mass matrix to level {}",
+                        q - 1
+                    )))
+                }
+                (_, Some(mixed)) => {
+                    let p1 = inverse_times(&level.mass, mixed, options.transfer)?;
+                    let r1 =
+                        inverse_times(&levels[q - 1].mass, &mixed.transpose(), options.transfer)?;
+                    if dim == 1 {
+                        (Some(LevelMap::OneD(p1)), Some(LevelMap::OneD(r1)))
+                    } else {
+                        (
+                            Some(LevelMap::TwoD(Kronecker2d::new(p1.clone(), p1))),
+                            Some(LevelMap::TwoD(Kronecker2d::new(r1.clone(), r1))),
+                        )
+                    }
                 }
             };
-            levels.push(Level {
+            out.push(Level {
                 matrix,
                 prolongation,
                 restriction,
             });
         }
-        Ok(Self { levels, options })
+        Ok(Self {
+            levels: out,
+            options,
+        })
     }
 
     /// The finest-level matrix M_{h,p}.

@@ -411,11 +411,7 @@ pub fn solver_study(
     let mut out = Vec::new();
     for &p in degrees {
         for &n in spans {
-            let m1 = {
-                let kv = crate::spline::KnotVector::open_uniform(0.0, 1.0, n, p)?;
-                crate::mass::with_dirichlet(&crate::mass::consistent_mass_constant(&kv, 1.0)?)
-            };
-            let k = crate::mass::Kronecker2d::new(m1.clone(), m1);
+            let k = crate::mass::unit_density_mass_2d(n, p, true)?;
             let dofs = k.rows();
             let kappa = spectrum_kronecker(&k)?.condition_number();
             let mut pt = SolverPoint {

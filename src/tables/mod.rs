@@ -18,7 +18,7 @@
 //! them.
 //!
 //! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
-//! [`ToleranceRules`], [`Tolerance`], [`Status`],
+//! [`ToleranceRules`], [`Tolerance`], [`Status`], [`Entry`],
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
 //! [`compare`], [`book`], [`facts`], [`mls`], [`thesis`], [`tls`].
@@ -395,7 +395,32 @@ impl TableReport {
         (rep, total)
     }
 
-    /// Human-readable rendering: one line per published number.
+    /// Every cell that is published or computed, in row-major order: the
+    /// one walk over a table that the text rendering here and the report's
+    /// markdown share, so that both show the same cells and status words.
+    pub fn entries(&self) -> impl Iterator<Item = Entry<'_>> + '_ {
+        self.row_labels
+            .iter()
+            .enumerate()
+            .flat_map(move |(i, row)| {
+                self.col_labels
+                    .iter()
+                    .enumerate()
+                    .filter(move |&(j, _)| {
+                        self.published[i][j].is_some() || self.computed[i][j].is_some()
+                    })
+                    .map(move |(j, column)| Entry {
+                        row,
+                        column,
+                        published: self.published[i][j],
+                        computed: self.computed[i][j],
+                        deviation: self.deviation[i][j],
+                        status: self.status[i][j],
+                    })
+            })
+    }
+
+    /// Human-readable rendering: one line per published or computed number.
     pub fn render_text(&self) -> String {
         let mut s = format!(
             "{} — {}\nsource: {} {}, p. {} (seed {})\nsetup: {}\nunit: {}\n\n",
@@ -418,33 +443,20 @@ impl TableReport {
             "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
             "row", "column", "published", "computed", "deviation", "status"
         ));
-        for (r, rl) in self.row_labels.iter().enumerate() {
-            for (c, cl) in self.col_labels.iter().enumerate() {
-                let p = self.published[r][c];
-                let v = self.computed[r][c];
-                if p.is_none() && v.is_none() {
-                    continue;
-                }
-                let fmt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.6e}"));
-                let dev = self.deviation[r][c]
-                    .map_or("—".to_string(), |d| format!("{:+.3}%", 100.0 * d));
-                let st = match (p, self.status[r][c]) {
-                    (None, _) => "extra".to_string(),
-                    (_, st) => serde_json::to_value(st)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                        .unwrap_or_default(),
-                };
-                s.push_str(&format!(
-                    "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
-                    rl,
-                    cl,
-                    fmt(p),
-                    fmt(v),
-                    dev,
-                    st
-                ));
-            }
+        let fmt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.6e}"));
+        for e in self.entries() {
+            let dev = e
+                .deviation
+                .map_or("—".to_string(), |d| format!("{:+.3}%", 100.0 * d));
+            s.push_str(&format!(
+                "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
+                e.row,
+                e.column,
+                fmt(e.published),
+                fmt(e.computed),
+                dev,
+                e.status_word()
+            ));
         }
         let (rep, total) = self.counts();
         s.push_str(&format!(
@@ -454,6 +466,36 @@ impl TableReport {
             s.push_str(&format!("note: {n}\n"));
         }
         s
+    }
+}
+
+/// One cell of a [`TableReport`], as [`TableReport::entries`] yields it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entry<'a> {
+    /// Row label.
+    pub row: &'a str,
+    /// Column label.
+    pub column: &'a str,
+    /// The published value, if any.
+    pub published: Option<f64>,
+    /// The computed value, if any.
+    pub computed: Option<f64>,
+    /// (computed − published)/|published|, where both exist.
+    pub deviation: Option<f64>,
+    /// The status.
+    pub status: Status,
+}
+
+impl Entry<'_> {
+    /// "reproduced", "deviates", "not computed", or "extra" for a computed
+    /// value the publication does not print.
+    pub fn status_word(&self) -> &'static str {
+        match (self.published, self.status) {
+            (None, _) => "extra",
+            (_, Status::Reproduced) => "reproduced",
+            (_, Status::Deviates) => "deviates",
+            (_, Status::NotComputed) => "not computed",
+        }
     }
 }
 
