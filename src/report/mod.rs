@@ -665,6 +665,20 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
             )
         })
         .collect();
+    mls_convergence_charts(dir, &study, &methods, &runs, &stopped)?;
+    mls_history_chart(dir, &study, &methods, &runs)?;
+    mls_work_precision_chart(dir, &methods, &runs)?;
+    mls_ppc_chart(dir, &study)
+}
+
+/// MLS paper Figs. 2–4: error at T against h for each quantity.
+fn mls_convergence_charts(
+    dir: &Path,
+    study: &AlignedStudy,
+    methods: &[AlignedMethod],
+    runs: &[RunOutcome],
+    stopped: &[String],
+) -> Result<()> {
     type Quantity = (&'static str, &'static str, fn(&AlignedErrors) -> f64);
     let quantities: [Quantity; 3] = [
         ("displacement", "RMS displacement error at T [m]", |e| {
@@ -679,7 +693,7 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
             .enumerate()
             .map(|(k, &m)| Series {
                 label: m.label(),
-                points: aligned_points(&runs, m, |o, e| (1.0 / o.cells as f64, f(e))),
+                points: aligned_points(runs, m, |o, e| (1.0 / o.cells as f64, f(e))),
                 style: Style::Line,
                 color: k,
             })
@@ -698,6 +712,16 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
             y_range: None,
         })?;
     }
+    Ok(())
+}
+
+/// The displacement error against time on the finest grid.
+fn mls_history_chart(
+    dir: &Path,
+    study: &AlignedStudy,
+    methods: &[AlignedMethod],
+    runs: &[RunOutcome],
+) -> Result<()> {
     let finest = study.options.sizes.iter().copied().max().unwrap_or(0);
     let history = methods
         .iter()
@@ -739,7 +763,15 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
             x_range: None,
             y_range: None,
         },
-    )?;
+    )
+}
+
+/// Accuracy against wall time of every run.
+fn mls_work_precision_chart(
+    dir: &Path,
+    methods: &[AlignedMethod],
+    runs: &[RunOutcome],
+) -> Result<()> {
     let work = methods
         .iter()
         .enumerate()
@@ -770,7 +802,11 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
         x_categories: vec![],
         x_range: None,
         y_range: None,
-    })?;
+    })
+}
+
+/// Sensitivity to the particles per cell (`--full` only).
+fn mls_ppc_chart(dir: &Path, study: &AlignedStudy) -> Result<()> {
     if study.ppc.is_empty() {
         return Ok(());
     }
