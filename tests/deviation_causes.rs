@@ -7,14 +7,11 @@ use hompm::mpm::mapping::Mapping;
 use hompm::report::causes::{causes, CauseKind};
 use hompm::scenes::column;
 use hompm::studies::tls_paper::{compaction, conservation_errors};
-use hompm::tables::{self, Published};
+use hompm::tables::Published;
 
 mod common;
 
-fn published(id: &str) -> Published {
-    let spec = tables::find(id).unwrap();
-    Published::parse(id, spec.published_json).unwrap()
-}
+use common::published;
 
 fn value(p: &Published, row: &str, column: &str) -> f64 {
     let r = p.row_labels.iter().position(|l| l == row).unwrap();

@@ -3,12 +3,10 @@
 use hompm::solve::cg::CgVariant;
 use hompm::solve::pmultigrid::{PMultigridOptions, Smoother, Transfer};
 use hompm::tables::book::{cg_iterations, pmg_alternatives, pmg_cycles};
-use hompm::tables::{self, Published, RunOptions, Status};
+use hompm::tables::{self, RunOptions, Status};
 
-fn published(id: &str) -> Published {
-    let spec = tables::find(id).unwrap();
-    Published::parse(id, spec.published_json).unwrap()
-}
+mod common;
+use common::published;
 
 /// Table 4.2: every condition number within 1 %.
 #[test]

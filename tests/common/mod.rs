@@ -106,3 +106,10 @@ pub fn free_settings(
         consistent_acceleration: false,
     }
 }
+
+/// The published numbers of a registered table, parsed from its
+/// golden/published JSON.
+pub fn published(id: &str) -> hompm::tables::Published {
+    let spec = hompm::tables::find(id).unwrap();
+    hompm::tables::Published::parse(id, spec.published_json).unwrap()
+}
