@@ -14,9 +14,11 @@
 //! [`unit_density_levels`],
 //! [`unit_density_mass_2d`].
 
-use crate::error::finite_named;
-use crate::error::{Error, Result};
-use nalgebra::DMatrix;
+use crate::basis::{Basis1d, Stencils};
+use crate::error::{finite, finite_named, Error, Result};
+use crate::quadrature::GaussLegendre;
+use crate::sparse::SparseMatrix;
+use faer::Mat;
 
 /// Assembles element matrices into a global matrix, thesis Appendix A.1:
 /// M = Σ_e T_eᵀ M_e T_e, where T_e is the Boolean matrix that maps the local
@@ -25,10 +27,10 @@ use nalgebra::DMatrix;
 /// This dense form is for small worked examples; production paths use banded
 /// or sparse storage.
 pub fn assemble(
-    element_matrices: &[DMatrix<f64>],
+    element_matrices: &[Mat<f64>],
     connectivity: &[Vec<usize>],
     size: usize,
-) -> Result<DMatrix<f64>> {
+) -> Result<Mat<f64>> {
     if element_matrices.len() != connectivity.len() {
         return Err(Error::InvalidArgument(format!(
             "{} element matrices but {} connectivity lists",
@@ -36,7 +38,7 @@ pub fn assemble(
             connectivity.len()
         )));
     }
-    let mut global = DMatrix::zeros(size, size);
+    let mut global = Mat::<f64>::zeros(size, size);
     for (e, (me, dofs)) in element_matrices.iter().zip(connectivity).enumerate() {
         if me.nrows() != dofs.len() || me.ncols() != dofs.len() {
             return Err(Error::InvalidArgument(format!(
@@ -62,14 +64,11 @@ pub fn assemble(
 }
 
 /// Row-sum lumping, book Eq. (4.3) and thesis A.2: M_ii = Σ_j M_ij.
-pub fn row_sum_lumping(matrix: &DMatrix<f64>) -> Vec<f64> {
-    matrix.row_iter().map(|r| r.sum()).collect()
+pub fn row_sum_lumping(matrix: &Mat<f64>) -> Vec<f64> {
+    (0..matrix.nrows())
+        .map(|i| (0..matrix.ncols()).map(|j| matrix[(i, j)]).sum())
+        .collect()
 }
-
-use crate::basis::{Basis1d, Stencils};
-use crate::error::finite;
-use crate::quadrature::GaussLegendre;
-use crate::sparse::SparseMatrix;
 
 /// Row sums of a sparse mass matrix: book Eq. (4.3), M_ii = Σ_j M^C_ij.
 pub fn lumped_by_row_sum(consistent: &SparseMatrix) -> Vec<f64> {

@@ -209,8 +209,8 @@ impl SparseMatrix {
     }
 
     /// Dense copy (for tests and small eigenvalue problems).
-    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
-        let mut d = nalgebra::DMatrix::zeros(self.rows, self.cols);
+    pub fn to_dense(&self) -> faer::Mat<f64> {
+        let mut d = faer::Mat::<f64>::zeros(self.rows, self.cols);
         for i in 0..self.rows {
             let (c, v) = self.row(i);
             for (&j, &a) in c.iter().zip(v) {

@@ -2,7 +2,7 @@
 
 use hompm::solve::cg::CgVariant;
 use hompm::solve::pmultigrid::{PMultigridOptions, Smoother, Transfer};
-use hompm::tables::book::{cg_iterations, pmg_alternatives, pmg_cycles};
+use hompm::studies::book::{cg_iterations, pmg_alternatives, pmg_cycles};
 use hompm::tables::{self, RunOptions, Status};
 
 mod common;

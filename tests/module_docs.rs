@@ -62,3 +62,50 @@ fn every_module_doc_names_its_public_items() {
     assert!(files.len() > 40, "found only {} source files", files.len());
     assert!(missing.is_empty(), "module docs do not name: {missing:#?}");
 }
+
+/// The names listed after "Items:" in a module doc (`[`name`]` links, up to
+/// the first empty doc line).
+fn listed_items(text: &str) -> Vec<String> {
+    let doc: Vec<&str> = text.lines().filter(|l| l.starts_with("//!")).collect();
+    let Some(start) = doc.iter().position(|l| l.contains("Items:")) else {
+        return vec![];
+    };
+    let list: String = doc[start..]
+        .iter()
+        .take_while(|l| l.trim_start_matches("//!").trim() != "" || l.contains("Items:"))
+        .copied()
+        .collect::<Vec<_>>()
+        .join(" ");
+    list.split("[`")
+        .skip(1)
+        .filter_map(|s| s.split("`]").next())
+        .map(|s| s.split("::").next().unwrap_or(s).to_string())
+        .collect()
+}
+
+/// The reverse of the test above: a module doc lists no item the module
+/// does not hold, so a moved function cannot leave its name behind.
+#[test]
+fn every_item_a_module_doc_lists_is_in_the_module() {
+    let mut files = Vec::new();
+    rust_files(
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/src")),
+        &mut files,
+    );
+    let mut stale = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let declared: Vec<&str> = text.lines().filter_map(public_item).collect();
+        let reexported = |name: &str| {
+            text.lines()
+                .filter(|l| l.starts_with("pub use "))
+                .any(|l| mentions(l, name))
+        };
+        for name in listed_items(&text) {
+            if !declared.contains(&name.as_str()) && !reexported(&name) {
+                stale.push(format!("{}: {name}", file.display()));
+            }
+        }
+    }
+    assert!(stale.is_empty(), "module docs list items the module does not hold: {stale:#?}");
+}

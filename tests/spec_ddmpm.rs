@@ -8,7 +8,7 @@
 //! - ∇̄φ_i = α ∇φ_i + (1 − α) ∇̃φ_i with α = 2 φ_k φ_{k+1} on element k.
 
 use approx::assert_relative_eq;
-use hompm::mpm::grid::{Grid, Method};
+use hompm::mpm::grid::{Grid, Method, NodeIntegrals};
 
 mod common;
 
@@ -116,8 +116,6 @@ fn the_blend_is_two_phi_k_phi_k_plus_one_everywhere_in_an_element() {
 }
 
 // ---- The node-integral rules (issue #11; TLS paper §3.3, Table 8) ----
-
-use hompm::mpm::grid::NodeIntegrals;
 
 /// |V − V_exact| + |G − G_exact| summed over the nodes of `grid` after a
 /// refresh from the particles, against the exact integrals over Ω.

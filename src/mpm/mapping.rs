@@ -551,8 +551,11 @@ fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: 
 /// M_ij = ∫ ρ φ_i φ_j of the projection by the mapping's quadrature:
 /// the particles for the direct mapping (book Eq. 4.10), conservative TLS
 /// of ρ and ρv at the cells' Gauss points (Eqs. 4.39–4.44), or cubic
-/// splines of ρ and v at the half-span points (thesis §7.2). Its length is
-/// the workspace's field list: the three mappings are their own functions.
+/// splines of ρ and v at the half-span points (thesis §7.2). It stays one
+/// piece (about 70 lines, most of them the workspace's field list): it
+/// splits the workspace into the disjoint borrows each mapping needs, which
+/// Rust allows only where the workspace is destructured; the three mappings
+/// are their own functions.
 pub fn assemble_projection(
     grid: &Grid,
     particles: &Particles,

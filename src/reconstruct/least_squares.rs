@@ -6,12 +6,16 @@
 //! F = [f_1 … f_N]ᵀ. The condition number κ(D) is reported because it detects
 //! data layouts that make the fit meaningless (TLS paper §5.3).
 //!
-//! Items: [`LeastSquaresFit`], [`SINGULAR_CONDITION`], [`normal_matrix`],
-//! [`symmetric_condition_number`], [`fit`], [`fit_rows`].
+//! The systems are small (one unknown per basis function, at most a few),
+//! so they are solved in nalgebra's fixed-size stack matrices, the tool for
+//! small dense algebra; faer is the crate's type for everything larger
+//! (docs/conventions.md, "Matrix types").
+//!
+//! Items: [`LeastSquaresFit`], [`SINGULAR_CONDITION`], [`fit`], [`fit_rows`].
 
 use crate::error::{finite_named, Error, Result};
 use nalgebra::allocator::Allocator;
-use nalgebra::{Const, DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, Dyn, OMatrix, OVector, U1};
+use nalgebra::{Const, DefaultAllocator, Dim, DimDiff, DimSub, Dyn, OMatrix, OVector, U1};
 
 /// A least-squares fit: coefficients α and κ(D).
 #[derive(Debug, Clone, PartialEq)]
@@ -25,28 +29,10 @@ pub struct LeastSquaresFit {
 /// Condition numbers above this are treated as singular.
 pub const SINGULAR_CONDITION: f64 = 1e12;
 
-/// The normal matrix D of book Eq. (4.27) for the rows ψ(x_p).
-pub fn normal_matrix(rows: &[Vec<f64>], nb: usize) -> DMatrix<f64> {
-    let mut d = DMatrix::zeros(nb, nb);
-    for r in rows {
-        for i in 0..nb {
-            for j in 0..nb {
-                d[(i, j)] += r[i] * r[j];
-            }
-        }
-    }
-    d
-}
-
-/// κ₂ of a symmetric positive semi-definite matrix (∞ if λ_min ≤ 0).
-pub fn symmetric_condition_number(d: &DMatrix<f64>) -> f64 {
-    condition_number_of(d.clone())
-}
-
 /// κ₂ = λ_max/λ_min by nalgebra's symmetric eigenvalues, for any storage:
 /// a fixed-size and a dynamic matrix give bit for bit the same numbers
 /// (the same generic algorithm), so small systems live on the stack.
-fn condition_number_of<D>(d: OMatrix<f64, D, D>) -> f64
+pub(crate) fn condition_number_of<D>(d: OMatrix<f64, D, D>) -> f64
 where
     D: Dim + DimSub<U1>,
     DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,

@@ -16,8 +16,10 @@
 //! Items: [`quadratic_spline_weight`], [`MLS_MAX_CONDITION`],
 //! [`shape_functions_1d`], [`shape_functions_2d`], [`reconstruct_1d`].
 
+use super::least_squares::condition_number_of;
 use crate::error::{finite, Error, Result};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, OVector, U1};
 
 /// The quadratic-spline weight of MLS paper Eq. (17), for r ≥ 0.
 pub fn quadratic_spline_weight(r: f64) -> f64 {
@@ -34,9 +36,20 @@ pub fn quadratic_spline_weight(r: f64) -> f64 {
 /// κ(A) above which the moment matrix counts as singular.
 pub const MLS_MAX_CONDITION: f64 = 1e12;
 
-fn shape_functions(p_eval: &[f64], basis_rows: &[Vec<f64>], weights: &[f64]) -> Result<Vec<f64>> {
-    let nb = p_eval.len();
-    let mut a = DMatrix::zeros(nb, nb);
+/// Φ_p(x) = pᵀ(x) A⁻¹(x) w_p p(x_p) (MLS paper Eq. 14) for a basis of
+/// `dim` functions (2 in 1D, 3 in 2D): A is a fixed-size stack matrix.
+fn shape_functions<D>(
+    dim: D,
+    p_eval: &[f64],
+    basis_rows: &[Vec<f64>],
+    weights: &[f64],
+) -> Result<Vec<f64>>
+where
+    D: Dim + DimSub<U1>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D> + Allocator<DimDiff<D, U1>>,
+{
+    let nb = dim.value();
+    let mut a = OMatrix::<f64, D, D>::zeros_generic(dim, dim);
     let mut active = 0;
     for (row, &w) in basis_rows.iter().zip(weights) {
         if w > 0.0 {
@@ -48,7 +61,7 @@ fn shape_functions(p_eval: &[f64], basis_rows: &[Vec<f64>], weights: &[f64]) -> 
             }
         }
     }
-    let kappa = super::least_squares::symmetric_condition_number(&a);
+    let kappa = condition_number_of(a.clone());
     if kappa.is_nan() || kappa > MLS_MAX_CONDITION {
         return Err(Error::Singular(format!(
             "MLS moment matrix A has condition number {kappa:e} with {active} points in the support"
@@ -58,7 +71,9 @@ fn shape_functions(p_eval: &[f64], basis_rows: &[Vec<f64>], weights: &[f64]) -> 
         .cholesky()
         .ok_or_else(|| Error::Singular("MLS moment matrix A is not positive definite".into()))?;
     // Φ_p = pᵀ(x) A⁻¹ w_p p(x_p) = (A⁻¹ p(x))ᵀ w_p p(x_p)  (A symmetric).
-    let z = chol.solve(&DVector::from_column_slice(p_eval));
+    let z = chol.solve(&OVector::<f64, D>::from_column_slice_generic(
+        dim, U1, p_eval,
+    ));
     Ok(basis_rows
         .iter()
         .zip(weights)
@@ -79,7 +94,7 @@ pub fn shape_functions_1d(x: f64, points: &[f64], cell_size: f64) -> Result<Vec<
         .iter()
         .map(|&xp| quadratic_spline_weight((x - xp) / (2.0 * cell_size)))
         .collect();
-    shape_functions(&[1.0, x], &rows, &weights)
+    shape_functions(Const::<2>, &[1.0, x], &rows, &weights)
 }
 
 /// 2D MLS shape functions with basis [1, x, y] (Eq. 15) and the tensor weight
@@ -101,7 +116,7 @@ pub fn shape_functions_2d(
                 * quadratic_spline_weight((x[1] - p[1]) / (2.0 * cell_size[1]))
         })
         .collect();
-    shape_functions(&[1.0, x[0], x[1]], &rows, &weights)
+    shape_functions(Const::<3>, &[1.0, x[0], x[1]], &rows, &weights)
 }
 
 fn check_cell_size(l: f64) -> Result<()> {

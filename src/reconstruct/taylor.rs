@@ -485,10 +485,10 @@ pub struct TlsScratch {
 
 /// [`reconstruct`] on data already grouped by cell ([`CellBins`]): the MPM
 /// step bins its particles once and calls this, so a reconstruction costs
-/// O(points + cells). Same fits, same degenerate-cell repair, same order.
-/// It stays one piece (about 70 lines) because the two passes share the
-/// fits of the first: degenerate cells are repaired only after every
-/// regular cell is fitted, so their neighbours' fits exist.
+/// O(points + cells). Same fits, same degenerate-cell repair, same order:
+/// first every cell is fitted; then the degenerate ones are repaired, after
+/// every regular cell is fitted, so their neighbours' fits exist (TLS paper
+/// §5.3).
 pub fn reconstruct_binned(
     cells: &[(f64, f64)],
     bins: &CellBins,
@@ -498,36 +498,20 @@ pub fn reconstruct_binned(
     options: TlsOptions,
     scratch: &mut TlsScratch,
 ) -> Result<TlsReconstruction> {
-    let n = cells.len();
-    let gather = |e: usize, px: &mut Vec<f64>, pv: &mut Vec<f64>| {
-        px.clear();
-        pv.clear();
-        for &k in bins.points_of(e) {
-            px.push(points[k]);
-            pv.push(values[k]);
-        }
-    };
-    let attempt = |e: usize, order: usize, px: &[f64], pv: &[f64]| -> Result<Option<CellFit>> {
-        let (a, b) = cells[e];
-        let c = integrals.map(|c| c[e]);
-        if px.is_empty() && c.is_none() {
-            return Ok(None);
-        }
-        fit_cell(
-            TaylorBasis::new(a, b, order)?,
-            px,
-            pv,
-            c,
-            options.max_condition,
-        )
-        .map(Some)
+    let data = BinnedData {
+        cells,
+        bins,
+        points,
+        values,
+        integrals,
+        max_condition: options.max_condition,
     };
     let TlsScratch { x: px, y: pv } = scratch;
-    let mut out: Vec<Option<CellFit>> = Vec::with_capacity(n);
+    let mut out: Vec<Option<CellFit>> = Vec::with_capacity(cells.len());
     let mut degenerate = Vec::new();
-    for e in 0..n {
-        gather(e, px, pv);
-        match attempt(e, options.order, px, pv) {
+    for e in 0..cells.len() {
+        data.gather(e, px, pv);
+        match data.fit(e, options.order, px, pv) {
             Ok(f) => out.push(f),
             Err(err) => {
                 out.push(None);
@@ -537,35 +521,87 @@ pub fn reconstruct_binned(
     }
     for (e, err) in degenerate {
         let (a, b) = cells[e];
-        match options.degenerate {
-            DegenerateCells::Error => return Err(singular_cell(e, a, b, err)),
-            DegenerateCells::ReduceBasis | DegenerateCells::VirtualPoints => {
-                gather(e, px, pv);
-                let added = if options.degenerate == DegenerateCells::VirtualPoints {
-                    add_virtual_points(e, (a, b), &out, px, pv)
-                } else {
-                    0
-                };
-                let mut order = options.order;
-                let fitted = loop {
-                    match attempt(e, order, px, pv) {
-                        Ok(f) => break f,
-                        Err(_) if order > 1 => order -= 1,
-                        Err(err) => return Err(err),
-                    }
-                };
-                out[e] = fitted.map(|mut f| {
-                    f.virtual_points = added;
-                    f
-                });
-            }
+        if options.degenerate == DegenerateCells::Error {
+            return Err(singular_cell(e, a, b, err));
         }
+        out[e] = data.repair(e, options, &out, px, pv)?;
     }
     let domain = match (cells.first(), cells.last()) {
         (Some(first), Some(last)) => (first.0, last.1),
         _ => (0.0, 0.0),
     };
     Ok(TlsReconstruction { cells: out, domain })
+}
+
+/// The binned data of [`reconstruct_binned`].
+struct BinnedData<'a> {
+    cells: &'a [(f64, f64)],
+    bins: &'a CellBins,
+    points: &'a [f64],
+    values: &'a [f64],
+    integrals: Option<&'a [f64]>,
+    max_condition: f64,
+}
+
+impl BinnedData<'_> {
+    /// The points and values of cell `e`, into the scratch buffers.
+    fn gather(&self, e: usize, px: &mut Vec<f64>, pv: &mut Vec<f64>) {
+        px.clear();
+        pv.clear();
+        for &k in self.bins.points_of(e) {
+            px.push(self.points[k]);
+            pv.push(self.values[k]);
+        }
+    }
+
+    /// The fit of cell `e` of the given order to `px`, `pv` (and the cell's
+    /// integral when conservative); `None` for a cell with nothing to fit.
+    fn fit(&self, e: usize, order: usize, px: &[f64], pv: &[f64]) -> Result<Option<CellFit>> {
+        let (a, b) = self.cells[e];
+        let c = self.integrals.map(|c| c[e]);
+        if px.is_empty() && c.is_none() {
+            return Ok(None);
+        }
+        fit_cell(
+            TaylorBasis::new(a, b, order)?,
+            px,
+            pv,
+            c,
+            self.max_condition,
+        )
+        .map(Some)
+    }
+
+    /// TLS paper §5.3 for a degenerate cell `e`: with virtual points, add the
+    /// neighbours' values first; then lower the order until the fit is
+    /// regular (order 1 failing is the error).
+    fn repair(
+        &self,
+        e: usize,
+        options: TlsOptions,
+        fitted: &[Option<CellFit>],
+        px: &mut Vec<f64>,
+        pv: &mut Vec<f64>,
+    ) -> Result<Option<CellFit>> {
+        self.gather(e, px, pv);
+        let added = if options.degenerate == DegenerateCells::VirtualPoints {
+            add_virtual_points(e, self.cells[e], fitted, px, pv)
+        } else {
+            0
+        };
+        let mut order = options.order;
+        let fit = loop {
+            match self.fit(e, order, px, pv) {
+                Ok(f) => break f,
+                Err(_) if order > 1 => order -= 1,
+                Err(err) => return Err(err),
+            }
+        };
+        Ok(fit.map(|mut f| {
+            f.virtual_points = added;
+            f
+        }))
+    }
 }
 
 /// The typed error of a degenerate cell (TLS paper §5.3) when degenerate

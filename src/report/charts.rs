@@ -134,18 +134,9 @@ fn map_err<E: std::fmt::Debug>(e: E) -> Error {
     Error::Io(format!("chart: {e:?}"))
 }
 
-/// Draws one chart. It stays one piece on purpose: plotters gives each of
-/// the four axis combinations (linear or log in x and y) its own coordinate
-/// type, so the series-drawing body is a macro expanded once per
-/// combination; split into functions, every piece would need plotters'
-/// ranged-coordinate bounds in its signature.
-fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    root.fill(&WHITE).map_err(map_err)?;
-    let foot = 18 * chart.footnotes.len() as i32;
-    let (plot_area, notes) = root.split_vertically(root.dim_in_pixel().1 as i32 - foot - 4);
+/// The data range of the chart's axes: the fixed ranges if given, the
+/// categories' slots, or the range of the points (and horizontal lines).
+fn axis_ranges(chart: &Chart) -> ((f64, f64), (f64, f64)) {
     let xs = chart
         .series
         .iter()
@@ -155,16 +146,21 @@ where
         .iter()
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .chain(chart.hlines.iter().map(|h| h.0));
-    let (mut x0, mut x1) = chart.x_range.unwrap_or_else(|| range(xs, chart.log_x));
+    let mut x = chart.x_range.unwrap_or_else(|| range(xs, chart.log_x));
     if !chart.x_categories.is_empty() {
-        x0 = 0.5;
-        x1 = chart.x_categories.len() as f64 + 0.5;
+        x = (0.5, chart.x_categories.len() as f64 + 0.5);
     }
+    let y = chart.y_range.unwrap_or_else(|| range(ys, chart.log_y));
+    (x, y)
+}
+
+/// The x tick labels: numbers, or the category names at the integer slots.
+fn x_tick_label(chart: &Chart) -> impl Fn(&f64) -> String {
     let cats = chart.x_categories.clone();
-    let (lx, ly) = (chart.log_x, chart.log_y);
-    let fx = move |v: &f64| {
+    let log_x = chart.log_x;
+    move |v: &f64| {
         if cats.is_empty() {
-            label(*v, lx)
+            label(*v, log_x)
         } else if (v - v.round()).abs() < 1e-9 && v.round() >= 1.0 {
             cats.get(v.round() as usize - 1)
                 .cloned()
@@ -172,16 +168,129 @@ where
         } else {
             String::new()
         }
-    };
-    let fy = move |v: &f64| label(*v, ly);
-    let (y0, y1) = chart.y_range.unwrap_or_else(|| range(ys, chart.log_y));
+    }
+}
+
+/// The dashed horizontal reference lines, each with its legend entry.
+fn draw_reference_lines<'a, DB, X, Y>(
+    ctx: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    chart: &Chart,
+    (x0, x1): (f64, f64),
+) -> Result<()>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    for (y, label) in &chart.hlines {
+        let c = RGBColor(90, 90, 90);
+        ctx.draw_series(DashedLineSeries::new(
+            vec![(x0, *y), (x1, *y)],
+            6,
+            4,
+            c.stroke_width(1),
+        ))
+        .map_err(map_err)?
+        .label(label.as_str())
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+    }
+    Ok(())
+}
+
+/// The reference lines, then the series, each with its legend entry, on
+/// any linear or logarithmic axes; then the legend.
+fn draw_lines_and_series<'a, DB, X, Y>(
+    ctx: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    chart: &Chart,
+    x_range: (f64, f64),
+) -> Result<()>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    draw_reference_lines(ctx, chart, x_range)?;
+    for s in &chart.series {
+        let c = color(s.color);
+        match s.style {
+            Style::Line => {
+                ctx.draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))
+                    .map_err(map_err)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                ctx.draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                    .map_err(map_err)?;
+            }
+            Style::Points => {
+                ctx.draw_series(s.points.iter().map(|&p| Circle::new(p, 7, c.filled())))
+                    .map_err(map_err)?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+            }
+            Style::Markers => {
+                ctx.draw_series(
+                    s.points
+                        .iter()
+                        .map(|&p| Cross::new(p, 6, c.stroke_width(2))),
+                )
+                .map_err(map_err)?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| Cross::new((x + 10, y), 5, c.stroke_width(2)));
+            }
+        }
+    }
+    ctx.configure_series_labels()
+        .label_font(("sans-serif", 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::LowerRight)
+        .draw()
+        .map_err(map_err)?;
+    Ok(())
+}
+
+/// The footnotes, one line each, under the plot.
+fn draw_footnotes<DB: DrawingBackend>(notes: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    for (k, line) in chart.footnotes.iter().enumerate() {
+        notes
+            .draw_text(
+                line,
+                &("sans-serif", 13).into_text_style(notes),
+                (16, 2 + 18 * k as i32),
+            )
+            .map_err(map_err)?;
+    }
+    Ok(())
+}
+
+/// Draws one chart: axes, reference lines, series, legend and footnotes.
+/// plotters gives each of the four axis combinations (linear or log in x
+/// and y) its own coordinate type, so the mesh is configured in a macro
+/// expanded once per combination; the rest is generic.
+fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, chart: &Chart) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(map_err)?;
+    let foot = 18 * chart.footnotes.len() as i32;
+    let (plot_area, notes) = root.split_vertically(root.dim_in_pixel().1 as i32 - foot - 4);
+    let ((x0, x1), (y0, y1)) = axis_ranges(chart);
+    let fx = x_tick_label(chart);
+    let log_y = chart.log_y;
+    let fy = move |v: &f64| label(*v, log_y);
     macro_rules! body {
         ($ctx:expr) => {{
             let mut ctx = $ctx;
-            let n_cat = chart.x_categories.len();
             let mut mesh = ctx.configure_mesh();
-            if n_cat > 0 {
-                mesh.x_labels(2 * n_cat + 1);
+            if !chart.x_categories.is_empty() {
+                mesh.x_labels(2 * chart.x_categories.len() + 1);
             }
             mesh.x_label_formatter(&fx)
                 .y_label_formatter(&fy)
@@ -191,59 +300,7 @@ where
                 .axis_desc_style(("sans-serif", 16))
                 .draw()
                 .map_err(map_err)?;
-            for (y, label) in &chart.hlines {
-                let c = RGBColor(90, 90, 90);
-                ctx.draw_series(DashedLineSeries::new(
-                    vec![(x0, *y), (x1, *y)],
-                    6,
-                    4,
-                    c.stroke_width(1),
-                ))
-                .map_err(map_err)?
-                .label(label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-            }
-            for s in &chart.series {
-                let c = color(s.color);
-                match s.style {
-                    Style::Line => {
-                        ctx.draw_series(LineSeries::new(
-                            s.points.iter().copied(),
-                            c.stroke_width(2),
-                        ))
-                        .map_err(map_err)?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                        });
-                        ctx.draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
-                            .map_err(map_err)?;
-                    }
-                    Style::Points => {
-                        ctx.draw_series(s.points.iter().map(|&p| Circle::new(p, 7, c.filled())))
-                            .map_err(map_err)?
-                            .label(s.label.as_str())
-                            .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
-                    }
-                    Style::Markers => {
-                        ctx.draw_series(
-                            s.points
-                                .iter()
-                                .map(|&p| Cross::new(p, 6, c.stroke_width(2))),
-                        )
-                        .map_err(map_err)?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| Cross::new((x + 10, y), 5, c.stroke_width(2)));
-                    }
-                }
-            }
-            ctx.configure_series_labels()
-                .label_font(("sans-serif", 13))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::LowerRight)
-                .draw()
-                .map_err(map_err)?;
+            draw_lines_and_series(&mut ctx, chart, (x0, x1))?;
         }};
     }
     let mut builder = ChartBuilder::on(&plot_area);
@@ -266,15 +323,7 @@ where
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(map_err)?),
     }
-    for (k, line) in chart.footnotes.iter().enumerate() {
-        notes
-            .draw_text(
-                line,
-                &("sans-serif", 13).into_text_style(&notes),
-                (16, 2 + 18 * k as i32),
-            )
-            .map_err(map_err)?;
-    }
+    draw_footnotes(&notes, chart)?;
     root.present().map_err(map_err)?;
     Ok(())
 }

@@ -30,6 +30,7 @@ use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
 use crate::studies::report::{ConvergenceLine, ReportStudies};
 use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
 use crate::tables::{self, RunOptions, Status, TableReport, Tolerance};
+use charts::{Chart, Series, Style};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -314,8 +315,6 @@ pub fn write_file(path: &Path, text: &str) -> Result<()> {
     }
     std::fs::write(path, text).map_err(|e| Error::Io(format!("{}: {e}", path.display())))
 }
-
-use charts::{Chart, Series, Style};
 
 /// Options of a full report run.
 #[derive(Debug, Clone)]
@@ -829,31 +828,31 @@ fn mls_work_precision_chart(
     })
 }
 
-/// Sensitivity to the particles per cell (`--full` only).
-fn mls_ppc_chart(dir: &Path, study: &AlignedStudy) -> Result<()> {
-    if study.ppc.is_empty() {
-        return Ok(());
-    }
-    let early = crate::tables::mls::EARLY_TIME;
-    let ppc = mls_paper::METHODS[1..]
+/// The PPC chart's series: for each method, the error at
+/// [`mls_paper::EARLY_TIME`] (line) and at the end T (markers).
+fn ppc_series(study: &AlignedStudy) -> Vec<Series> {
+    let early = mls_paper::EARLY_TIME;
+    let at_early = |m: AlignedMethod| -> Vec<(f64, f64)> {
+        study
+            .ppc
+            .iter()
+            .filter(|o| o.method == m)
+            .filter_map(|o| {
+                o.history
+                    .iter()
+                    .find(|e| (e.time - early).abs() < 1e-9)
+                    .map(|e| (o.ppc as f64, e.displacement))
+            })
+            .collect()
+    };
+    mls_paper::METHODS[1..]
         .iter()
         .enumerate()
         .flat_map(|(k, &m)| {
-            let at_early = study
-                .ppc
-                .iter()
-                .filter(|o| o.method == m)
-                .filter_map(|o| {
-                    o.history
-                        .iter()
-                        .find(|e| (e.time - early).abs() < 1e-9)
-                        .map(|e| (o.ppc as f64, e.displacement))
-                })
-                .collect();
             [
                 Series {
                     label: format!("{} at t = {early} s", m.label()),
-                    points: at_early,
+                    points: at_early(m),
                     style: Style::Line,
                     color: k + 1,
                 },
@@ -865,7 +864,29 @@ fn mls_ppc_chart(dir: &Path, study: &AlignedStudy) -> Result<()> {
                 },
             ]
         })
-        .collect();
+        .collect()
+}
+
+/// One footnote per run that stopped, with its reason.
+fn stopped_runs(runs: &[RunOutcome]) -> Vec<String> {
+    runs.iter()
+        .filter(|o| o.run.is_none())
+        .map(|o| {
+            format!(
+                "{} with {} PPC stopped: {}",
+                o.method.label(),
+                o.ppc,
+                o.failure.clone().unwrap_or_default()
+            )
+        })
+        .collect()
+}
+
+/// Sensitivity to the particles per cell (`--full` only).
+fn mls_ppc_chart(dir: &Path, study: &AlignedStudy) -> Result<()> {
+    if study.ppc.is_empty() {
+        return Ok(());
+    }
     charts::write(
         dir,
         "mls_ppc",
@@ -878,21 +899,9 @@ fn mls_ppc_chart(dir: &Path, study: &AlignedStudy) -> Result<()> {
             y_label: "RMS displacement error [m]".into(),
             log_x: false,
             log_y: true,
-            series: ppc,
+            series: ppc_series(study),
             hlines: vec![],
-            footnotes: study
-                .ppc
-                .iter()
-                .filter(|o| o.run.is_none())
-                .map(|o| {
-                    format!(
-                        "{} with {} PPC stopped: {}",
-                        o.method.label(),
-                        o.ppc,
-                        o.failure.clone().unwrap_or_default()
-                    )
-                })
-                .collect(),
+            footnotes: stopped_runs(&study.ppc),
             x_categories: vec![],
             x_range: None,
             y_range: None,

@@ -15,7 +15,7 @@
 //! wall times do).
 //!
 //! Items: [`AlignedStudyOptions`], [`RunOutcome`], [`AlignedStudy`],
-//! [`aligned_study`], [`METHODS`].
+//! [`aligned_study`], [`METHODS`], [`EARLY_TIME`].
 
 use crate::error::Result;
 use crate::scenes::aligned_vibration::{
@@ -23,6 +23,10 @@ use crate::scenes::aligned_vibration::{
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// The time of the early rows and chart points: one period of sin(cπt/L)
+/// for E = 1e7 Pa.
+pub const EARLY_TIME: f64 = 0.02;
 
 /// The three methods of the paper's figures (quadratic B-splines).
 pub const METHODS: [AlignedMethod; 3] = [

@@ -7,16 +7,18 @@
 //!   bar for a method at one resolution, with the wall time of the run
 //!   (convergence and work-precision charts).
 //!
-//! Items: [`TRANSITS`], [`ENERGY_BOUND`], [`is_stable`],
+//! Items: [`BarExtremes`], [`bar_extremes`], [`TRANSITS`], [`ENERGY_BOUND`], [`is_stable`],
 //! [`critical_courant`], [`BarErrors`], [`bar_errors`], [`Variant`],
 //! [`work_precision_variants`], [`WorkPoint`], [`work_precision`],
 //! [`speed_variants`], [`SpeedPoint`], [`speed`], [`SolverPoint`],
 //! [`solver_study`], [`StabilityPoint`], [`stability_map`], [`tls_example`],
-//! [`tls_paper`], [`mls_paper`], [`failures`], [`report`].
+//! [`tls_paper`], [`mls_paper`], [`failures`], [`report`], [`thesis`], [`book`].
 
+pub mod book;
 pub mod failures;
 pub mod mls_paper;
 pub mod report;
+pub mod thesis;
 pub mod tls_example;
 pub mod tls_paper;
 
@@ -30,6 +32,44 @@ use crate::solve::direct::cholesky_solve;
 use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
 use crate::solve::spectrum::spectrum_kronecker;
 use serde::Serialize;
+
+/// The extremes of a standard-MPM run of the vibrating bar: the largest
+/// |u_p| over all steps and the grid crossings (TLS paper §6.1, book §4.5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BarExtremes {
+    /// max over steps and particles of |u_p| [m].
+    pub max_displacement: f64,
+    /// Grid crossings counted by the run's diagnostics.
+    pub crossings: usize,
+}
+
+/// Runs the bar `params` (a parameter set of [`vibrating_bar::parameters`])
+/// with standard MPM, direct mapping and lumped mass, on `cells` cells with
+/// `ppc` particles each, for `steps` steps of `dt`, and reports its
+/// [`BarExtremes`].
+pub fn bar_extremes(
+    params: &str,
+    cells: usize,
+    ppc: usize,
+    dt: f64,
+    steps: usize,
+) -> Result<BarExtremes> {
+    let p = vibrating_bar::parameters(params)?;
+    let mut sim = p.simulation(&Discretisation::direct(Method::Mpm, cells, ppc))?;
+    let mut max_displacement: f64 = 0.0;
+    for _ in 0..steps {
+        sim.step(dt)?;
+        max_displacement = sim
+            .particles
+            .u
+            .iter()
+            .fold(max_displacement, |a, u| a.max(u.abs()));
+    }
+    Ok(BarExtremes {
+        max_displacement,
+        crossings: sim.diagnostics.grid_crossings,
+    })
+}
 
 /// Wave transits L/c simulated by [`is_stable`].
 pub const TRANSITS: f64 = 20.0;

@@ -9,7 +9,7 @@
 //! Items: [`mass_for`], [`TLS_METHODS`], [`conservation_errors`],
 //! [`conservation_errors_for`], [`ConservationByMethod`], [`conservation_by_mapping`],
 //! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
-//! [`compaction`], [`compaction_uncached`], [`TABLE_8_SUBPOINTS`],
+//! [`compaction`], [`compactions`], [`compaction_uncached`], [`TABLE_8_SUBPOINTS`],
 //! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`],
 //! [`stress_errors_against_ulfem`].
 
@@ -175,6 +175,14 @@ pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
         c.insert((method, mapping), run);
     }
     Ok(run)
+}
+
+/// [`compaction`] for every (method, mapping) of `jobs`, spread over the
+/// cores; the runs in the order of `jobs`.
+pub fn compactions(jobs: &[(Method, Mapping)]) -> Result<Vec<CompactionRun>> {
+    jobs.par_iter()
+        .map(|&(method, mapping)| compaction(method, mapping))
+        .collect()
 }
 
 /// One uncached compaction run of TLS paper Table 6 ([`compaction`]).

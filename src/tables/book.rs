@@ -11,81 +11,15 @@
 //! - `book-4.4`: p-multigrid V-cycles (forward Gauss–Seidel, ν₁ = ν₂ = 8,
 //!   lumped transfer, CG to 1e-4 on p = 1) until ‖f − Ma‖/‖f‖ < 1e-8.
 //!
-//! Items: [`cg_iterations`], [`pmg_cycles`], [`pmg_alternatives`],
-//! [`tables`].
+//! The runs are [`crate::studies::book`]'s.
+//!
+//! Items: [`tables`].
 
 use super::{Computed, LabelledRow, TableSpec};
 use crate::error::Result;
-use crate::mass::unit_density_mass_2d;
-use crate::solve::cg::{conjugate_gradient, CgVariant};
-use crate::solve::gravity_rhs;
-use crate::solve::pmultigrid::{PMultigrid, PMultigridOptions};
-use crate::solve::spectrum::spectrum_kronecker;
-
-/// CG iteration count for one (p, 1/h) entry of Table 4.3 with a given variant
-/// and operator form (`assembled`: the sparse 2D matrix; otherwise the
-/// Kronecker product is applied as vec(M X Mᵀ)).
-pub fn cg_iterations(
-    spans: usize,
-    degree: usize,
-    variant: CgVariant,
-    assembled: bool,
-) -> Result<usize> {
-    let k = unit_density_mass_2d(spans, degree, true)?;
-    let out = if assembled {
-        let a = k.assemble();
-        let f = gravity_rhs(&a);
-        conjugate_gradient(&a, &f, 1e-8, 10_000, variant)?
-    } else {
-        let f = gravity_rhs(&k);
-        conjugate_gradient(&k, &f, 1e-8, 10_000, variant)?
-    };
-    Ok(out.iterations)
-}
-
-/// V-cycle count for one entry of Table 4.4 with the given options.
-pub fn pmg_cycles(spans: usize, degree: usize, options: PMultigridOptions) -> Result<usize> {
-    let mg = PMultigrid::unit_mass(spans, degree, 2, true, options)?;
-    let f = gravity_rhs(mg.matrix());
-    Ok(mg.solve(&f, 1e-8, 1000)?.iterations)
-}
-
-/// The variants of book §4.7's p-multigrid compared in docs/reproduction.md:
-/// (name, options). The first reproduces Table 4.4 without any coarse grid.
-pub fn pmg_alternatives() -> Vec<(&'static str, PMultigridOptions)> {
-    use crate::solve::pmultigrid::{Smoother, Transfer};
-    let book = PMultigridOptions::default();
-    vec![
-        (
-            "16 forward Gauss–Seidel sweeps per cycle, no coarse correction",
-            PMultigridOptions {
-                coarse_correction: false,
-                ..book
-            },
-        ),
-        (
-            "symmetric Gauss–Seidel smoother",
-            PMultigridOptions {
-                smoother: Smoother::SymmetricGaussSeidel,
-                ..book
-            },
-        ),
-        (
-            "damped Jacobi smoother (ω = 2/3)",
-            PMultigridOptions {
-                smoother: Smoother::DampedJacobi { omega: 2.0 / 3.0 },
-                ..book
-            },
-        ),
-        (
-            "consistent transfer",
-            PMultigridOptions {
-                transfer: Transfer::Consistent,
-                ..book
-            },
-        ),
-    ]
-}
+use crate::solve::cg::CgVariant;
+use crate::solve::pmultigrid::PMultigridOptions;
+use crate::studies::book::{cg_iterations, condition_number, pmg_alternatives, pmg_cycles};
 
 /// f(p, 1/h) for p = 1 … `degrees` (rows, labelled "p = …" as the book's
 /// tables) and the given 1/h (columns, in the published order).
@@ -114,9 +48,7 @@ fn table_4_2() -> TableSpec {
                 homogeneous Dirichlet (first and last function per direction removed). \
                 κ = λ_max/λ_min (Eq. 4.56) from faer's 1D eigenvalues and κ(M⊗M) = κ(M)².",
         compute: |_| {
-            let rows = grid(5, &[8, 16, 32, 64], |p, n| {
-                Ok(spectrum_kronecker(&unit_density_mass_2d(n, p, true)?)?.condition_number())
-            })?;
+            let rows = grid(5, &[8, 16, 32, 64], |p, n| condition_number(n, p))?;
             Ok(Computed {
                 rows,
                 notes: vec![],

@@ -8,12 +8,14 @@
 //! The notes carry the RMS errors of every run at T and after one period,
 //! the mapping errors, the cost, and the runs that stopped.
 //!
-//! Items: [`aligned`], [`claims`], [`EARLY_TIME`].
+//! Items: [`aligned`], [`claims`].
 
 use super::{Computed, LabelledRow, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::scenes::aligned_vibration::{parameters, AlignedErrors, AlignedMethod};
-use crate::studies::mls_paper::{aligned_study, AlignedStudy, AlignedStudyOptions, RunOutcome};
+use crate::studies::mls_paper::{
+    aligned_study, AlignedStudy, AlignedStudyOptions, RunOutcome, EARLY_TIME,
+};
 use crate::studies::tls_paper::fitted_order;
 
 /// The registration of `mls-aligned`.
@@ -78,9 +80,6 @@ fn errors(
         })
         .collect()
 }
-
-/// The time of the early rows: one period of sin(cπt/L) for E = 1e7 Pa.
-pub const EARLY_TIME: f64 = 0.02;
 
 /// Order between two sizes: log(e_c/e_f)/log(c_f/c_c).
 fn pair_order(coarse: (usize, f64), fine: (usize, f64)) -> f64 {

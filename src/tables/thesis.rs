@@ -3,13 +3,18 @@
 //! `thesis-a1`: Appendix A.1–A.2, the assembly of three 2×2 element mass
 //! matrices into a 4×4 global matrix and its row-sum lumping.
 //!
-//! Items: [`appendix_a1`], [`ThesisVariant`], [`THESIS_DT`],
-//! [`THESIS_STEPS`], [`bar_rms_with`], [`bar_rms`], [`tables`].
+//! `thesis-5.1` … `thesis-7.2`: the RMS errors and orders of the vibrating
+//! bar for linear Lagrange, B-spline and spline-based MPM, run by
+//! [`crate::studies::thesis`].
+//!
+//! Items: [`appendix_a1`], [`tables`].
 
 use super::{Computed, LabelledRow, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mass::{assemble, row_sum_lumping};
-use nalgebra::DMatrix;
+use crate::mpm::mapping::{ConsistentSolver, MassMatrix};
+use crate::studies::thesis::{self, bar_rms, bar_rms_with, ThesisVariant};
+use faer::mat;
 
 /// Thesis Appendix A.1 (M = Σ T_eᵀ M_e T_e) and A.2 (M^L_ii = Σ_j M_ij).
 pub fn appendix_a1() -> TableSpec {
@@ -26,16 +31,19 @@ pub fn appendix_a1() -> TableSpec {
 
 fn compute_a1(_: &RunOptions) -> Result<Computed> {
     let elements = [
-        DMatrix::from_row_slice(2, 2, &[5.0, 4.0, 2.0, 7.0]),
-        DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 3.0]),
-        DMatrix::from_row_slice(2, 2, &[7.0, 3.0, 5.0, 2.0]),
+        mat![[5.0, 4.0], [2.0, 7.0]],
+        mat![[1.0, 2.0], [2.0, 3.0]],
+        mat![[7.0, 3.0], [5.0, 2.0]],
     ];
     let connectivity = vec![vec![0, 1], vec![1, 2], vec![2, 3]];
     let m = assemble(&elements, &connectivity, 4)?;
-    let mut rows: Vec<_> = m
-        .row_iter()
-        .enumerate()
-        .map(|(i, r)| Computed::row(format!("M row {}", i + 1), r.iter().copied()))
+    let mut rows: Vec<_> = (0..m.nrows())
+        .map(|i| {
+            Computed::row(
+                format!("M row {}", i + 1),
+                (0..m.ncols()).map(|j| m[(i, j)]),
+            )
+        })
         .collect();
     rows.push(Computed::row("lumped diagonal", row_sum_lumping(&m)));
     Ok(Computed {
@@ -43,95 +51,6 @@ fn compute_a1(_: &RunOptions) -> Result<Computed> {
         notes: vec![],
         ..Default::default()
     })
-}
-
-use crate::mpm::diagnostics::rms_error;
-use crate::mpm::grid::Method;
-use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
-use crate::scenes::{vibrating_bar, Discretisation};
-use rayon::prelude::*;
-use std::collections::HashMap;
-use std::sync::{Mutex, OnceLock};
-
-/// The three MPM variants of thesis chapters 5–7.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ThesisVariant {
-    /// Chapter 5: linear Lagrange MPM, direct mapping, lumped mass.
-    LinearLagrange,
-    /// Chapter 6: quadratic B-spline MPM, direct mapping, lumped mass.
-    BSpline,
-    /// Chapter 7: quadratic B-splines with not-a-knot cubic-spline
-    /// reconstruction of stress, density and velocity at the half-span Gauss
-    /// points, consistent mass by Richardson to 1e-9.
-    SplineBased,
-}
-
-impl ThesisVariant {
-    /// The discretisation for `cells` cells and `ppc` particles per cell.
-    pub fn discretisation(self, cells: usize, ppc: usize) -> Discretisation {
-        let (method, mapping, mass) = match self {
-            ThesisVariant::LinearLagrange => (Method::Mpm, Mapping::Direct, MassMatrix::Lumped),
-            ThesisVariant::BSpline => (
-                Method::Bsmpm { degree: 2 },
-                Mapping::Direct,
-                MassMatrix::Lumped,
-            ),
-            ThesisVariant::SplineBased => (
-                Method::Bsmpm { degree: 2 },
-                Mapping::CubicSpline,
-                MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
-            ),
-        };
-        Discretisation::new(method, mapping, mass, cells, ppc)
-    }
-}
-
-/// Thesis §4.3/§5.1.1: time step and number of steps of the convergence study.
-/// The error is taken after 1999 steps of 1e-5 s (t = 0.01999 s), against the
-/// analytic displacement at the particles' initial positions
-/// (docs/conventions.md: 2000 steps raise every entry by 5e-4 relative).
-pub const THESIS_DT: f64 = 1e-5;
-/// See [`THESIS_DT`].
-pub const THESIS_STEPS: usize = 1999;
-
-/// RMS displacement error of the vibrating bar (thesis Table 4.1) for one
-/// variant, resolution and PPC, with a custom mass option. Cached per process.
-pub fn bar_rms_with(
-    variant: ThesisVariant,
-    cells: usize,
-    ppc: usize,
-    mass: Option<MassMatrix>,
-) -> Result<f64> {
-    static CACHE: OnceLock<Mutex<HashMap<String, f64>>> = OnceLock::new();
-    let key = format!("{variant:?}/{cells}/{ppc}/{mass:?}");
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    if let Some(v) = cache.lock().ok().and_then(|c| c.get(&key).copied()) {
-        return Ok(v);
-    }
-    let params = vibrating_bar::parameters("thesis-table-4.1")?;
-    let mut d = variant.discretisation(cells, ppc);
-    if let Some(m) = mass {
-        d.mass = m;
-    }
-    let mut sim = params.simulation(&d)?;
-    sim.run(THESIS_DT, THESIS_STEPS)?;
-    let t = THESIS_STEPS as f64 * THESIS_DT;
-    let exact: Vec<f64> = sim
-        .particles
-        .x0
-        .iter()
-        .map(|&x| params.displacement(x, t))
-        .collect();
-    let e = rms_error(&sim.particles.u, &exact)?;
-    if let Ok(mut c) = cache.lock() {
-        c.insert(key, e);
-    }
-    Ok(e)
-}
-
-/// [`bar_rms_with`] with the variant's own mass matrix.
-pub fn bar_rms(variant: ThesisVariant, cells: usize, ppc: usize) -> Result<f64> {
-    bar_rms_with(variant, cells, ppc, None)
 }
 
 const LEVELS: [usize; 5] = [4, 8, 16, 32, 64];
@@ -147,37 +66,21 @@ fn level_label(variant: ThesisVariant, cells: usize) -> String {
 }
 
 fn rms_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
-    let jobs: Vec<(usize, usize)> = LEVELS
-        .iter()
-        .flat_map(|&c| PPCS.iter().map(move |&p| (c, p)))
-        .collect();
-    let values: Vec<f64> = jobs
-        .par_iter()
-        .map(|&(c, p)| bar_rms(variant, c, p))
-        .collect::<Result<_>>()?;
-    let by_job: std::collections::HashMap<(usize, usize), f64> =
-        jobs.into_iter().zip(values).collect();
+    let errors = thesis::rms_grid(variant, &LEVELS, &PPCS)?;
     Ok(LEVELS
         .iter()
-        .map(|&c| {
-            Computed::row(
-                level_label(variant, c),
-                PPCS.iter().map(|&p| by_job[&(c, p)]),
-            )
-        })
+        .zip(errors)
+        .map(|(&c, row)| Computed::row(level_label(variant, c), row))
         .collect())
 }
 
 /// Orders log2(e(h)/e(h/2)) at 4 PPC, each labelled by its finer level.
 fn order_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
-    let e: Vec<f64> = LEVELS
-        .par_iter()
-        .map(|&c| bar_rms(variant, c, 4))
-        .collect::<Result<_>>()?;
-    Ok(LEVELS
-        .windows(2)
-        .zip(e.windows(2))
-        .map(|(l, w)| Computed::row(level_label(variant, l[1]), [(w[0] / w[1]).log2()]))
+    let orders = thesis::orders(variant, &LEVELS, 4)?;
+    Ok(LEVELS[1..]
+        .iter()
+        .zip(orders)
+        .map(|(&c, order)| Computed::row(level_label(variant, c), [order]))
         .collect())
 }
 

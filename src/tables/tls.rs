@@ -18,7 +18,7 @@
 //!
 //! Items: [`tables`].
 
-use super::{Computed, LabelledRow, TableSpec};
+use super::{Computed, LabelledRow, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
@@ -26,12 +26,11 @@ use crate::studies::tls_example::{
     example_reconstructions, relative_integral_error, rms_error, spreads, Spread, EXAMPLE_SEED,
 };
 use crate::studies::tls_paper::{
-    as_paper_ran, compaction, conservation_by_mapping, conservation_errors,
+    as_paper_ran, compaction, compactions, conservation_by_mapping, conservation_errors,
     conservation_errors_for, fig6_errors, fig6_variants, fitted_order, stress_errors_against_ulfem,
     subpoint_study, ConservationByMethod, SubpointStudy, TABLE_8_SUBPOINTS, TLS_METHODS,
 };
 use crate::studies::BarErrors;
-use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// Spread notes over the layouts of seeds 1..=100.
@@ -330,61 +329,66 @@ fn tls_fig10() -> TableSpec {
         id: "tls-fig10",
         published_json: include_str!("../../golden/published/tls-fig10.json"),
         setup: COMPACTION_SETUP,
-        compute: |o| {
-            if o.quick {
-                return Ok(Computed::skipped_in_quick_mode());
-            }
-            let maps = [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls];
-            // The published cells, each method as the paper ran it, and the
-            // other DDMPM rule with each mapping (hompm's findings).
-            let other_ddmpm = |map: Mapping| {
-                if as_paper_ran(Method::DDMPM, map) == Method::DDMPM {
-                    Method::DDMPM_PARTICLES
-                } else {
-                    Method::DDMPM
-                }
-            };
-            let jobs: Vec<(Method, Mapping)> = TLS_METHODS
-                .iter()
-                .flat_map(|&m| maps.map(|map| (as_paper_ran(m, map), map)))
-                .chain(maps.map(|map| (other_ddmpm(map), map)))
-                .collect();
-            let runs: HashMap<(Method, Mapping), f64> = jobs
-                .par_iter()
-                .map(|&(m, map)| compaction(m, map).map(|r| ((m, map), r.stress_error)))
-                .collect::<Result<_>>()?;
-            // Rows: methods; columns: no reconstruction, cubic spline, TLS.
-            let rows = TLS_METHODS
-                .iter()
-                .map(|&m| {
-                    (
-                        paper_name(m),
-                        maps.iter()
-                            .map(|&map| runs.get(&(as_paper_ran(m, map), map)).copied())
-                            .collect(),
-                    )
-                })
-                .collect();
-            let notes = vec![
-                ddmpm_rule_note(),
-                format!(
-                    "DDMPM under the other rule: {}",
-                    maps.iter()
-                        .map(|&map| {
-                            let m = other_ddmpm(map);
-                            format!("{} {:?} {:.4e}", m.label(), map, runs[&(m, map)])
-                        })
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ];
-            Ok(Computed {
-                rows,
-                notes,
-                ..Default::default()
-            })
-        },
+        compute: compute_fig10,
     }
+}
+
+/// DDMPM under the node-integral rule the tables do not use with `map`
+/// (docs/conventions.md, "DDMPM node integrals").
+fn other_ddmpm(map: Mapping) -> Method {
+    if as_paper_ran(Method::DDMPM, map) == Method::DDMPM {
+        Method::DDMPM_PARTICLES
+    } else {
+        Method::DDMPM
+    }
+}
+
+/// TLS paper Fig. 10: the stress errors of the compaction. The published
+/// cells, each method as the paper ran it, and the other DDMPM rule with
+/// each mapping (hompm's findings) in a note.
+fn compute_fig10(o: &RunOptions) -> Result<Computed> {
+    if o.quick {
+        return Ok(Computed::skipped_in_quick_mode());
+    }
+    let maps = [Mapping::Direct, Mapping::CubicSpline, Mapping::Tls];
+    let jobs: Vec<(Method, Mapping)> = TLS_METHODS
+        .iter()
+        .flat_map(|&m| maps.map(|map| (as_paper_ran(m, map), map)))
+        .chain(maps.map(|map| (other_ddmpm(map), map)))
+        .collect();
+    let runs = compactions(&jobs)?;
+    let stress_error = |m: Method, map: Mapping| {
+        jobs.iter()
+            .zip(&runs)
+            .find(|(job, _)| **job == (m, map))
+            .map(|(_, run)| run.stress_error)
+    };
+    // Rows: methods; columns: no reconstruction, cubic spline, TLS.
+    let rows = TLS_METHODS
+        .iter()
+        .map(|&m| {
+            let row = maps
+                .iter()
+                .map(|&map| stress_error(as_paper_ran(m, map), map));
+            (paper_name(m), row.collect())
+        })
+        .collect();
+    let other: Vec<String> = maps
+        .iter()
+        .map(|&map| {
+            let m = other_ddmpm(map);
+            let e = stress_error(m, map).unwrap_or(f64::NAN);
+            format!("{} {map:?} {e:.4e}", m.label())
+        })
+        .collect();
+    Ok(Computed {
+        rows,
+        notes: vec![
+            ddmpm_rule_note(),
+            format!("DDMPM under the other rule: {}", other.join(", ")),
+        ],
+        ..Default::default()
+    })
 }
 
 /// The note every DDMPM entry of the TLS tables carries: which node-integral
