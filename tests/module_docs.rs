@@ -107,5 +107,8 @@ fn every_item_a_module_doc_lists_is_in_the_module() {
             }
         }
     }
-    assert!(stale.is_empty(), "module docs list items the module does not hold: {stale:#?}");
+    assert!(
+        stale.is_empty(),
+        "module docs list items the module does not hold: {stale:#?}"
+    );
 }

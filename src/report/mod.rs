@@ -28,6 +28,7 @@ use crate::scenes::aligned_vibration::{AlignedErrors, AlignedMethod};
 use crate::studies::failures::FailureCases;
 use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
 use crate::studies::report::{ConvergenceLine, ReportStudies};
+use crate::studies::tls_paper;
 use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
 use crate::tables::{self, RunOptions, Status, TableReport, Tolerance};
 use charts::{Chart, Series, Style};
@@ -364,7 +365,11 @@ pub fn convergence_charts(dir: &Path, lines: &[ConvergenceLine]) -> Result<()> {
             log_y: true,
             series,
             hlines: vec![],
-            footnotes: vec!["Δt = 1e-7 s, 19 steps; reconstructions with consistent mass; slopes are least-squares fits over the four resolutions.".into()],
+            footnotes: vec![format!(
+                "Δt = {:e} s, {} steps; reconstructions with consistent mass; slopes are least-squares fits over the four resolutions.",
+                tls_paper::SMALL_BAR_DT,
+                tls_paper::SMALL_BAR_STEPS
+            )],
             x_categories: vec![],
             x_range: None,
             y_range: None,

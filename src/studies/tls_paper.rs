@@ -6,7 +6,7 @@
 //! reference (Fig. 9, book Fig. 4.7). Results are labelled by method and
 //! mapping, never picked by position.
 //!
-//! Items: [`mass_for`], [`TLS_METHODS`], [`conservation_errors`],
+//! Items: [`mass_for`], [`TLS_METHODS`], [`SMALL_BAR_DT`], [`SMALL_BAR_STEPS`], [`conservation_errors`],
 //! [`conservation_errors_for`], [`ConservationByMethod`], [`conservation_by_mapping`],
 //! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
 //! [`compaction`], [`compactions`], [`compaction_uncached`], [`TABLE_8_SUBPOINTS`],
@@ -53,6 +53,12 @@ pub fn as_paper_ran(method: Method, mapping: Mapping) -> Method {
     }
 }
 
+/// The time step of the small-deformation bar runs (TLS paper Table 2,
+/// Tables 3 and Fig. 6): Δt = 1e-7 s.
+pub const SMALL_BAR_DT: f64 = 1e-7;
+/// Their number of steps: 19 (t = 1.9e-6 s).
+pub const SMALL_BAR_STEPS: usize = 19;
+
 /// (max mass error, max momentum error) of the vibrating bar of TLS paper
 /// Table 2 over 19 steps of 1e-7 s (t = 1.9e-6 s), consistent mass.
 pub fn conservation_errors(
@@ -61,7 +67,15 @@ pub fn conservation_errors(
     cells: usize,
     ppc: usize,
 ) -> Result<(f64, f64)> {
-    conservation_errors_for("tls-table-2", method, mapping, cells, ppc, 1e-7, 19)
+    conservation_errors_for(
+        "tls-table-2",
+        method,
+        mapping,
+        cells,
+        ppc,
+        SMALL_BAR_DT,
+        SMALL_BAR_STEPS,
+    )
 }
 
 /// (max mass error, max momentum error) of a bar parameter set with the
@@ -136,7 +150,7 @@ pub fn fig6_errors(method: Method, mapping: Mapping) -> Result<Vec<BarErrors>> {
         .par_iter()
         .map(|&cells| {
             let d = Discretisation::new(method, mapping, mass_for(mapping), cells, 12);
-            bar_errors("tls-table-2", &d, 1e-7, 19)
+            bar_errors("tls-table-2", &d, SMALL_BAR_DT, SMALL_BAR_STEPS)
         })
         .collect()
 }

@@ -15,7 +15,7 @@ use crate::mpm::mapping::Mapping;
 use crate::mpm::particles::Particles;
 use crate::scenes::{column, vibrating_bar};
 use crate::studies::bar_extremes;
-use crate::studies::tls_paper::compaction;
+use crate::studies::tls_paper::{compaction, SMALL_BAR_DT, SMALL_BAR_STEPS};
 
 /// One fact: the sentence's label and its computed value (`None`: not
 /// computed in a quick run).
@@ -99,7 +99,7 @@ fn maximum_strains() -> Result<Vec<Fact>> {
 /// TLS paper §6.1–6.2 and book §4.5: maximal displacements and grid-crossing
 /// counts of standard MPM runs (all but the first skipped when `quick`).
 fn run_facts(quick: bool) -> Result<Vec<Fact>> {
-    let small = bar_extremes("tls-table-2", 40, 12, 1e-7, 19)?;
+    let small = bar_extremes("tls-table-2", 40, 12, SMALL_BAR_DT, SMALL_BAR_STEPS)?;
     // The long runs, each once; `None` in a quick run.
     let tls = (!quick)
         .then(|| bar_extremes("tls-table-4", 20, 8, 1e-4, 1000))
