@@ -105,7 +105,7 @@ fn run_tables(ids: &[&str], options: RunOptions) -> Result<Vec<tables::TableRepo
             eprintln!("[{k}/{}] {id} ({secs:.1} s)", ids.len());
         }
     };
-    let reports = report::run_tables(ids, options, &progress)?;
+    let reports = tables::run_many(ids, options, &progress)?;
     bar.finish_and_clear();
     Ok(reports)
 }

@@ -13,24 +13,24 @@
 //! here that turns a study into a [`charts::Chart`].
 //!
 //! Items: [`Unimplemented`], [`unimplemented`], [`ReportJson`],
-//! [`run_tables`], [`Baseline`], [`baseline_of`], [`regressions`],
+//! [`Baseline`], [`baseline_of`], [`regressions`],
 //! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
 //! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],
 //! [`speed_chart`], [`solver_table_charts`], [`solver_time_chart`],
 //! [`stability_chart`], [`write_charts`], [`mls_charts`], [`studies_json`],
-//! [`build`], [`LONGEST_TABLES`], [`causes`], [`charts`].
+//! [`build`], [`causes`], [`charts`].
 
 pub mod causes;
 pub mod charts;
 
 use crate::error::{Error, Result};
-use crate::scenes::aligned_vibration::{AlignedErrors, AlignedMethod};
+use crate::scenes::aligned_vibration::{self, AlignedErrors, AlignedMethod};
 use crate::studies::failures::FailureCases;
 use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
-use crate::studies::report::{ConvergenceLine, ReportStudies};
+use crate::studies::report::{ConvergenceLine, ConvergenceOrders, ReportStudies};
 use crate::studies::tls_paper;
 use crate::studies::{BarErrors, SolverPoint, SpeedPoint, StabilityPoint, WorkPoint};
-use crate::tables::{self, RunOptions, Status, TableReport, Tolerance};
+use crate::tables::{Status, TableReport, Tolerance};
 use charts::{Chart, Series, Style};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -76,39 +76,6 @@ pub struct ReportJson {
     /// Study data behind the charts (keys: convergence, work_precision, solvers, stability).
     pub studies: BTreeMap<String, serde_json::Value>,
 }
-
-/// Runs the given tables in parallel (rayon); `progress` is called after each.
-pub fn run_tables(
-    ids: &[&str],
-    options: RunOptions,
-    progress: &(dyn Fn(&str, f64) + Sync),
-) -> Result<Vec<TableReport>> {
-    use rayon::prelude::*;
-    let specs: Vec<_> = ids
-        .iter()
-        .map(|id| tables::find(id))
-        .collect::<Result<_>>()?;
-    // The longest tables start first, so that the others fill the other
-    // core while they run; the reports come back in `ids` order.
-    let mut order: Vec<usize> = (0..specs.len()).collect();
-    order.sort_by_key(|&i| !LONGEST_TABLES.contains(&specs[i].id));
-    let mut reports: Vec<(usize, Result<TableReport>)> = order
-        .par_iter()
-        .map(|&i| {
-            let spec = &specs[i];
-            let t = std::time::Instant::now();
-            let r = tables::run(spec, &options);
-            progress(spec.id, t.elapsed().as_secs_f64());
-            (i, r)
-        })
-        .collect();
-    reports.sort_by_key(|(i, _)| *i);
-    reports.into_iter().map(|(_, r)| r).collect()
-}
-
-/// Tables that take most of `hompm reproduce` (mls-aligned: about two
-/// minutes of its one longest run), started before the others.
-pub const LONGEST_TABLES: [&str; 1] = ["mls-aligned"];
 
 /// The cells that reproduced, per table: the regression baseline.
 pub type Baseline = BTreeMap<String, Vec<[usize; 2]>>;
@@ -331,30 +298,41 @@ pub struct ReproduceOptions {
 /// The convergence charts (TLS paper Fig. 6): RMS error against h for the
 /// nine method/mapping variants, with the fitted order in the legend.
 pub fn convergence_charts(dir: &Path, lines: &[ConvergenceLine]) -> Result<()> {
-    use crate::studies::tls_paper::fitted_order;
-    type Quantity = (&'static str, &'static str, fn(&BarErrors) -> f64);
+    type Quantity = (
+        &'static str,
+        &'static str,
+        fn(&BarErrors) -> f64,
+        fn(&ConvergenceOrders) -> f64,
+    );
     let quantities: [Quantity; 3] = [
-        ("displacement", "RMS displacement error [m]", |e| {
-            e.displacement
-        }),
-        ("velocity", "RMS grid-velocity error [m/s]", |e| {
-            e.grid_velocity
-        }),
-        ("stress", "RMS stress error [Pa]", |e| e.stress),
+        (
+            "displacement",
+            "RMS displacement error [m]",
+            |e| e.displacement,
+            |o| o.displacement,
+        ),
+        (
+            "velocity",
+            "RMS grid-velocity error [m/s]",
+            |e| e.grid_velocity,
+            |o| o.grid_velocity,
+        ),
+        (
+            "stress",
+            "RMS stress error [Pa]",
+            |e| e.stress,
+            |o| o.stress,
+        ),
     ];
-    for (name, ylabel, f) in quantities {
+    for (name, ylabel, f, order) in quantities {
         let series = lines
             .iter()
             .enumerate()
-            .map(|(k, line)| {
-                let h: Vec<f64> = line.errors.iter().map(|r| r.h).collect();
-                let y: Vec<f64> = line.errors.iter().map(f).collect();
-                Series {
-                    label: format!("{} (order {:.2})", line.method, fitted_order(&h, &y)),
-                    points: h.into_iter().zip(y).collect(),
-                    style: Style::Line,
-                    color: k,
-                }
+            .map(|(k, line)| Series {
+                label: format!("{} (order {:.2})", line.method, order(&line.orders)),
+                points: line.errors.iter().map(|e| (e.h, f(e))).collect(),
+                style: Style::Line,
+                color: k,
             })
             .collect();
         charts::write(dir, &format!("convergence_{name}"), &Chart {
@@ -715,6 +693,14 @@ fn mls_convergence_charts(
         ("velocity", "RMS velocity error at T [m/s]", |e| e.velocity),
         ("stress", "RMS Cauchy stress error at T [Pa]", |e| e.stress),
     ];
+    let scene = aligned_vibration::parameters(mls_paper::PAPER_PARAMETERS)?;
+    let setup = format!(
+        "E = {:e} Pa, A = {} m, {} PPC, Δt = {:e} s; TL-FE is hompm's total-Lagrangian reference without grid crossing.",
+        scene.young,
+        scene.amplitude,
+        mls_paper::PAPER_PARTICLES_PER_SIDE.pow(2),
+        scene.dt
+    );
     for (name, ylabel, f) in quantities {
         let series = methods
             .iter()
@@ -726,19 +712,28 @@ fn mls_convergence_charts(
                 color: k,
             })
             .collect();
-        charts::write(dir, &format!("mls_convergence_{name}"), &Chart {
-            title: format!("Aligned vibration (MLS paper Figs. 2–4): {name} at T = {} s", study.options.steps as f64 * 1e-5),
-            x_label: "cell size h [m]".into(),
-            y_label: ylabel.into(),
-            log_x: true,
-            log_y: true,
-            series,
-            hlines: vec![],
-            footnotes: std::iter::once("E = 1e7 Pa, A = 0.1 m, 9 PPC, Δt = 1e-5 s; TL-FE is hompm's total-Lagrangian reference without grid crossing.".to_string()).chain(stopped.iter().cloned()).collect(),
-            x_categories: vec![],
-            x_range: None,
-            y_range: None,
-        })?;
+        charts::write(
+            dir,
+            &format!("mls_convergence_{name}"),
+            &Chart {
+                title: format!(
+                    "Aligned vibration (MLS paper Figs. 2–4): {name} at T = {} s",
+                    study.options.steps as f64 * scene.dt
+                ),
+                x_label: "cell size h [m]".into(),
+                y_label: ylabel.into(),
+                log_x: true,
+                log_y: true,
+                series,
+                hlines: vec![],
+                footnotes: std::iter::once(setup.clone())
+                    .chain(stopped.iter().cloned())
+                    .collect(),
+                x_categories: vec![],
+                x_range: None,
+                y_range: None,
+            },
+        )?;
     }
     Ok(())
 }
@@ -786,7 +781,10 @@ fn mls_history_chart(
             log_y: true,
             series: history,
             hlines: vec![],
-            footnotes: vec!["One period of sin(cπt/L) is 0.02 s.".into()],
+            footnotes: vec![format!(
+                "One period of sin(cπt/L) is {} s.",
+                mls_paper::EARLY_TIME
+            )],
             x_categories: vec![],
             x_range: None,
             y_range: None,

@@ -15,7 +15,8 @@
 //! wall times do).
 //!
 //! Items: [`AlignedStudyOptions`], [`RunOutcome`], [`AlignedStudy`],
-//! [`aligned_study`], [`METHODS`], [`EARLY_TIME`].
+//! [`aligned_study`], [`METHODS`], [`EARLY_TIME`], [`PAPER_PARAMETERS`],
+//! [`PAPER_PARTICLES_PER_SIDE`].
 
 use crate::error::Result;
 use crate::scenes::aligned_vibration::{
@@ -27,6 +28,11 @@ use serde::{Deserialize, Serialize};
 /// The time of the early rows and chart points: one period of sin(cπt/L)
 /// for E = 1e7 Pa.
 pub const EARLY_TIME: f64 = 0.02;
+
+/// The parameter set of the paper's study (E = 1e7 Pa).
+pub const PAPER_PARAMETERS: &str = "mls-paper-e1e7";
+/// Particles per side of a cell in the paper's study: 3 × 3 = 9 PPC.
+pub const PAPER_PARTICLES_PER_SIDE: usize = 3;
 
 /// The three methods of the paper's figures (quadratic B-splines).
 pub const METHODS: [AlignedMethod; 3] = [
@@ -201,27 +207,28 @@ fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
             }
         }
     };
-    add("mls-paper-e1e7", &METHODS, &o.sizes, &[3], 0);
+    let paper = [PAPER_PARTICLES_PER_SIDE];
+    add(PAPER_PARAMETERS, &METHODS, &o.sizes, &paper, 0);
     add(
-        "mls-paper-e1e7",
+        PAPER_PARAMETERS,
         &METHODS[1..],
         &[o.ppc_cells],
         &o.ppc_per_side,
         1,
     );
-    add("mls-paper-e1e8", &METHODS, &o.other_young_sizes, &[3], 2);
+    add("mls-paper-e1e8", &METHODS, &o.other_young_sizes, &paper, 2);
     add(
-        "mls-paper-e1e7",
+        PAPER_PARAMETERS,
         &[AlignedMethod::BsmpmMlsPhase1 { degree: 2 }],
         &o.phase1_sizes,
-        &[3],
+        &paper,
         3,
     );
     add(
-        "mls-paper-e1e7",
+        PAPER_PARAMETERS,
         &[AlignedMethod::TotalLagrangian { degree: 2 }],
         &o.reference_sizes,
-        &[3],
+        &paper,
         4,
     );
     jobs
@@ -230,7 +237,7 @@ fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
 /// Runs the study: all jobs in parallel (longest first), results in input
 /// order.
 pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
-    let scenes = [parameters("mls-paper-e1e7")?, parameters("mls-paper-e1e8")?];
+    let scenes = [parameters(PAPER_PARAMETERS)?, parameters("mls-paper-e1e8")?];
     let jobs = jobs(o);
     let cost = |j: &Job| {
         let per = match j.method {

@@ -6,10 +6,11 @@
 //! time beyond book Tables 4.3–4.4, the stability map and the failure cases.
 //! `report` renders these results and computes nothing itself.
 //!
-//! Items: [`ConvergenceLine`], [`ReportStudies`], [`run_report_studies`].
+//! Items: [`ConvergenceLine`], [`ConvergenceOrders`], [`ReportStudies`],
+//! [`run_report_studies`].
 
 use super::failures::{self, FailureCases};
-use super::tls_paper::{fig6_errors, fig6_variants};
+use super::tls_paper::{fig6_errors, fig6_variants, fitted_order};
 use super::{
     solver_study, speed, stability_map, work_precision, BarErrors, SolverPoint, SpeedPoint,
     StabilityPoint, WorkPoint,
@@ -25,6 +26,36 @@ pub struct ConvergenceLine {
     pub method: String,
     /// The errors per resolution.
     pub errors: Vec<BarErrors>,
+    /// The fitted orders of the three errors over the resolutions.
+    pub orders: ConvergenceOrders,
+}
+
+/// Least-squares slopes of log(error) against log(h)
+/// ([`super::tls_paper::fitted_order`]), one per error of [`BarErrors`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ConvergenceOrders {
+    /// Of the RMS displacement error.
+    pub displacement: f64,
+    /// Of the RMS grid-velocity error.
+    pub grid_velocity: f64,
+    /// Of the RMS stress error.
+    pub stress: f64,
+}
+
+impl ConvergenceOrders {
+    /// The orders of `errors` over their element sizes.
+    pub fn of(errors: &[BarErrors]) -> Self {
+        let h: Vec<f64> = errors.iter().map(|e| e.h).collect();
+        let order = |f: fn(&BarErrors) -> f64| {
+            let y: Vec<f64> = errors.iter().map(f).collect();
+            fitted_order(&h, &y)
+        };
+        Self {
+            displacement: order(|e| e.displacement),
+            grid_velocity: order(|e| e.grid_velocity),
+            stress: order(|e| e.stress),
+        }
+    }
 }
 
 /// Every study of the report, with the sizes it was run at.
@@ -58,9 +89,11 @@ fn convergence() -> Result<Vec<ConvergenceLine>> {
                 Mapping::CubicSpline => " + CS",
                 Mapping::CubicSplineClipped => " + CS (clipped)",
             };
+            let errors = fig6_errors(m, map)?;
             Ok(ConvergenceLine {
                 method: format!("{}{suffix}", m.label()),
-                errors: fig6_errors(m, map)?,
+                orders: ConvergenceOrders::of(&errors),
+                errors,
             })
         })
         .collect()

@@ -20,7 +20,8 @@
 //! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
 //! [`ToleranceRules`], [`Tolerance`], [`Status`], [`Entry`],
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
-//! [`registry`], [`ids`], [`find`], [`run`], [`effective_tolerance`],
+//! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
+//! [`effective_tolerance`],
 //! [`compare`], [`book`], [`facts`], [`mls`], [`thesis`], [`tls`].
 
 pub mod book;
@@ -529,6 +530,36 @@ pub fn run(spec: &TableSpec, options: &RunOptions) -> Result<TableReport> {
     let computed = (spec.compute)(options)?;
     compare(spec, &published, computed)
 }
+
+/// Runs the given tables in parallel (rayon); `progress` is called after each.
+pub fn run_many(
+    ids: &[&str],
+    options: RunOptions,
+    progress: &(dyn Fn(&str, f64) + Sync),
+) -> Result<Vec<TableReport>> {
+    use rayon::prelude::*;
+    let specs: Vec<_> = ids.iter().map(|id| find(id)).collect::<Result<_>>()?;
+    // The longest tables start first, so that the others fill the other
+    // core while they run; the reports come back in `ids` order.
+    let mut order: Vec<usize> = (0..specs.len()).collect();
+    order.sort_by_key(|&i| !LONGEST_TABLES.contains(&specs[i].id));
+    let mut reports: Vec<(usize, Result<TableReport>)> = order
+        .par_iter()
+        .map(|&i| {
+            let spec = &specs[i];
+            let t = std::time::Instant::now();
+            let r = run(spec, &options);
+            progress(spec.id, t.elapsed().as_secs_f64());
+            (i, r)
+        })
+        .collect();
+    reports.sort_by_key(|(i, _)| *i);
+    reports.into_iter().map(|(_, r)| r).collect()
+}
+
+/// Tables that take most of `hompm reproduce` (mls-aligned: about two
+/// minutes of its one longest run), started before the others.
+pub const LONGEST_TABLES: [&str; 1] = ["mls-aligned"];
 
 /// A published value at rounding level (|p| ≤ 1e-13) is noise: a relative
 /// tolerance on it is meaningless, so it is judged by the machine-precision
