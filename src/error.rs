@@ -6,7 +6,7 @@
 //! Public functions return `Result<_, Error>`; none of them panics on bad input
 //! and none returns a silent NaN.
 //!
-//! Items: [`Error`], [`Result`], [`finite`], [`finite_named`].
+//! Items: [`Error`], [`DivergenceCause`], [`Result`], [`finite`], [`finite_named`].
 
 /// The one error type of hompm. Each message names the offending value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -121,7 +121,7 @@ pub enum Error {
         /// The particle that shows it, where one does.
         particle: Option<usize>,
         /// What diverged, with the numbers.
-        cause: String,
+        cause: DivergenceCause,
     },
     /// A command whose estimated memory or run time exceeds a limit: refused
     /// before any work is done.
@@ -152,6 +152,43 @@ pub enum Error {
         id: String,
         /// What is wrong with it.
         message: String,
+    },
+}
+
+/// Why the stability monitor (`mpm::monitor`) stopped a run: the fields of
+/// [`Error::Diverged`]'s cause, so a caller matches the kind and its numbers,
+/// not the message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DivergenceCause {
+    /// The energy grew beyond `bound` × (initial energy + work of the loads)
+    /// = `budget`; the particle named is the fastest.
+    #[error("the energy {energy:e} exceeds {bound} × (initial energy + work of the loads) = {budget:e} (the particle named is the fastest)")]
+    EnergyGrowth {
+        /// The energy after the step.
+        energy: f64,
+        /// The allowed growth factor.
+        bound: f64,
+        /// bound × (E₀ + W).
+        budget: f64,
+    },
+    /// A strain reached |ε| ≥ 1 (a Jacobian 1 + ε ≤ 0 or ≥ 2).
+    #[error("strain {strain:e} has |ε| ≥ 1 (Jacobian {:e})", 1.0 + .strain)]
+    StrainLimit {
+        /// The particle's strain.
+        strain: f64,
+    },
+    /// The run failed with Δt above the measured critical step; `failure`
+    /// is the error it failed with.
+    #[error("dt = {dt:e} is above the critical step {critical_dt:e} (Courant number {critical_courant} measured by hompm's CFL study); {failure}")]
+    TimeStepAboveCritical {
+        /// The time step of the run.
+        dt: f64,
+        /// C_crit h / c_max.
+        critical_dt: f64,
+        /// The measured critical Courant number C_crit.
+        critical_courant: f64,
+        /// The error the run failed with.
+        failure: Box<Error>,
     },
 }
 

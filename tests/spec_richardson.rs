@@ -125,3 +125,32 @@ fn the_true_residual_variant_reports_the_true_residual() {
         "{recursive_drift:e}"
     );
 }
+
+/// The three stopping rules at a tolerance an iterate meets exactly: thesis
+/// §7.2's Richardson stops at ‖r_k‖/‖P‖ ≤ ε (so at that iterate), book
+/// Eq. (4.53)'s CG and book §4.7's p-multigrid at ‖r_k‖/‖r_0‖ < ε (so one
+/// iterate later). The tolerance is the residual a first run reported, so
+/// the comparison is exact.
+#[test]
+fn stopping_rules_are_at_most_for_richardson_and_strictly_below_for_cg_and_pmultigrid() {
+    use hompm::solve::cg::{conjugate_gradient, CgVariant};
+    use hompm::solve::pmultigrid::{PMultigrid, PMultigridOptions};
+    let (mc, ml, p) = system();
+    let first = richardson(&mc, &ml, &p, 1e-12, 100).unwrap();
+    let at_equality = richardson(&mc, &ml, &p, first.residuals[3], 100).unwrap();
+    assert_eq!(at_equality.iterations, 3);
+
+    let m = hompm::mass::unit_density_mass(8, 3, true).unwrap();
+    let b: Vec<f64> = (0..m.rows()).map(|i| ((i * 7 % 11) as f64) - 5.0).collect();
+    let first = conjugate_gradient(&m, &b, 1e-14, 100, CgVariant::Recursive).unwrap();
+    assert!(first.iterations > 3);
+    let at_equality =
+        conjugate_gradient(&m, &b, first.residuals[2], 100, CgVariant::Recursive).unwrap();
+    assert_eq!(at_equality.iterations, 3);
+
+    let mg = PMultigrid::unit_mass(8, 3, 1, true, PMultigridOptions::default()).unwrap();
+    let first = mg.solve(&b, 1e-14, 100).unwrap();
+    assert!(first.iterations > 2);
+    let at_equality = mg.solve(&b, first.residuals[1], 100).unwrap();
+    assert_eq!(at_equality.iterations, 2);
+}

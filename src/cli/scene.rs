@@ -12,7 +12,7 @@
 use super::args::{count, name, node_integrals, MappingArg, MassArg, MethodArg, SceneArg};
 use super::limits::Limits;
 use super::{json, Output};
-use crate::error::{Error, Result};
+use crate::error::{DivergenceCause, Error, Result};
 use crate::mpm::diagnostics::rms_error;
 use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::mapping::Mapping;
@@ -246,7 +246,11 @@ fn advance(sim: &mut Simulation, dt: f64, steps: usize) -> Result<Vec<Warning>> 
 /// because of it: the error becomes [`Error::Diverged`] naming that cause,
 /// keeping the step and particle of the original error.
 fn with_time_step_cause(e: Error, monitor: &StabilityMonitor, time: f64) -> Error {
-    let Some(w) = monitor
+    let Some(&Warning::TimeStepAboveCritical {
+        dt,
+        critical_dt,
+        critical_courant,
+    }) = monitor
         .warnings()
         .iter()
         .find(|w| matches!(w, Warning::TimeStepAboveCritical { .. }))
@@ -263,7 +267,12 @@ fn with_time_step_cause(e: Error, monitor: &StabilityMonitor, time: f64) -> Erro
         step,
         time,
         particle,
-        cause: format!("{w}; {e}"),
+        cause: DivergenceCause::TimeStepAboveCritical {
+            dt,
+            critical_dt,
+            critical_courant,
+            failure: Box::new(e.clone()),
+        },
     }
 }
 

@@ -24,7 +24,7 @@
 
 use super::grid::Method;
 use super::musl::Simulation;
-use crate::error::{Error, Result};
+use crate::error::{DivergenceCause, Error, Result};
 use serde::Serialize;
 
 /// Largest accepted ratio of the energy to (initial energy + the work the
@@ -151,10 +151,11 @@ impl StabilityMonitor {
                 step,
                 time: sim.time,
                 particle: fastest,
-                cause: format!(
-                    "the energy {energy:e} exceeds {ENERGY_GROWTH_BOUND} × (initial energy + work of the loads) = {:e} (the particle named is the fastest)",
-                    self.energy_budget
-                ),
+                cause: DivergenceCause::EnergyGrowth {
+                    energy,
+                    bound: ENERGY_GROWTH_BOUND,
+                    budget: self.energy_budget,
+                },
             });
         }
         if let Some(k) = sim.particles.strain.iter().position(|e| e.abs() >= 1.0) {
@@ -162,11 +163,9 @@ impl StabilityMonitor {
                 step,
                 time: sim.time,
                 particle: Some(k),
-                cause: format!(
-                    "strain {:e} has |ε| ≥ 1 (Jacobian {:e})",
-                    sim.particles.strain[k],
-                    1.0 + sim.particles.strain[k]
-                ),
+                cause: DivergenceCause::StrainLimit {
+                    strain: sim.particles.strain[k],
+                },
             });
         }
         self.record_negative_masses(sim);
