@@ -7,27 +7,26 @@
 //! `docs/equations.md` maps each equation to its code and its test.
 //!
 //! ## Map of the crate, in data-flow order
-//! A lower layer never imports a higher one.
+//! A lower layer never imports a higher one, nor a module of its own layer;
+//! tests/layers.rs holds this order and fails on any `crate::` path that
+//! points up.
 //!
 //! | layer | module | what it holds |
 //! |---|---|---|
-//! | 0 | [`error`] | [`Error`]: every user-facing failure |
-//! | 1 | [`basis`] | the [`basis::Basis1d`] interface shared by all 1D bases |
-//! | 1 | [`spline`] | knot vectors, Cox–de Boor (book Eqs. 4.19–4.23), 2D tensor basis |
-//! | 1 | [`lagrange`] | P1 and P2 Lagrange shape functions (thesis §5.1–5.2) |
-//! | 1 | [`quadrature`] | Gauss–Legendre rules; the thesis' half-span rule (§7.2) |
-//! | 2 | [`sparse`] | CSR storage for banded and Kronecker mass matrices |
-//! | 2 | [`mass`] | consistent and lumped mass, Kronecker 2D operators (book Eqs. 4.2–4.4, thesis A.1–A.2) |
-//! | 3 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
-//! | 4 | [`reconstruct`] | least squares, Taylor LS, cubic splines, MLS (book §4.4, TLS §5, thesis §7.1, MLS Eqs. 6–17) |
-//! | 5 | [`mpm`] | particles, grid bases, mappings, the MUSL step, diagnostics (book §4.2, TLS §3–5, thesis §3) |
-//! | 5 | [`mpm2d`] | 2D MPM, BSMPM and BSMPM with MLS: tensor grid, MLS at Gauss points, neo-Hookean (MLS Eqs. 4–5, 10–41) |
-//! | 5 | [`fem`] | updated-Lagrangian FEM reference (thesis §5.1.2, TLS §6.1) |
-//! | 6 | [`scenes`], [`studies`] | benchmark problems with named parameter sets; sweeps |
-//! | 0 | [`rng`] | the seeded generator behind every "random" layout |
-//! | 7 | [`tables`] | the registry of published tables and their computations |
-//! | 8 | [`report`] | report.md/json, reproduction.md, charts |
-//! | 9 | [`cli`] | the command line as a function, `cli::run(args)`; the binary prints what it returns |
+//! | 0 | [`error`], [`rng`] | [`Error`]: every user-facing failure; the seeded generator behind every "random" layout |
+//! | 1 | [`basis`], [`quadrature`] | the [`basis::Basis1d`] interface shared by all 1D bases; Gauss–Legendre rules and the thesis' half-span rule (§7.2) |
+//! | 2 | [`spline`], [`lagrange`] | knot vectors, Cox–de Boor (book Eqs. 4.19–4.23), 2D tensor basis; P1 and P2 Lagrange shape functions (thesis §5.1–5.2) |
+//! | 3 | [`sparse`] | CSR storage for banded and Kronecker mass matrices |
+//! | 4 | [`mass`] | consistent and lumped mass, Kronecker 2D operators, the book's test problem (book Eqs. 4.2–4.4, thesis A.1–A.2) |
+//! | 5 | [`solve`] | CG, Richardson, p-multigrid, condition numbers (book §4.6–4.7, thesis §7.2) |
+//! | 6 | [`reconstruct`] | least squares, Taylor LS, cubic splines, MLS (book §4.4, TLS §5, thesis §7.1, MLS Eqs. 6–17) |
+//! | 7 | [`mpm`] | particles, grid bases, mappings, the MUSL step, diagnostics (book §4.2, TLS §3–5, thesis §3) |
+//! | 8 | [`mpm2d`], [`fem`] | 2D MPM, BSMPM and BSMPM with MLS (MLS Eqs. 4–5, 10–41); the updated-Lagrangian FEM reference (thesis §5.1.2, TLS §6.1) |
+//! | 9 | [`scenes`] | benchmark problems with named parameter sets |
+//! | 10 | [`studies`] | every run behind a table or a chart |
+//! | 11 | [`tables`] | the registry of published tables: registrations that call studies |
+//! | 12 | [`report`] | renders tables and studies: report.md/json, reproduction.md, charts |
+//! | 13 | [`cli`] | the command line as a function, `cli::run(args)`; the binary prints what it returns |
 //!
 
 pub mod basis;

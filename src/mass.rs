@@ -110,7 +110,7 @@ pub fn consistent_mass_constant(basis: &dyn Basis1d, rho: f64) -> Result<SparseM
 }
 
 /// The mixed mass matrix P_ij = ∫ φ_i^{fine} φ_j^{coarse} dΩ (book §4.7; the
-/// p-multigrid transfer of Tielen et al., book ref. [235], docs/bibliography.md). Both bases must share their
+/// p-multigrid transfer of Tielen et al., book ref. \[235\], docs/bibliography.md). Both bases must share their
 /// cells; `points_per_cell` must integrate degree p_fine + p_coarse exactly.
 pub fn mixed_mass(
     fine: &dyn Basis1d,

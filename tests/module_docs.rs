@@ -79,7 +79,10 @@ fn listed_items(text: &str) -> Vec<String> {
     list.split("[`")
         .skip(1)
         .filter_map(|s| s.split("`]").next())
-        .map(|s| s.split("::").next().unwrap_or(s).to_string())
+        .map(|s| {
+            let s = s.trim_end_matches("()").trim_end_matches('!');
+            s.split("::").next().unwrap_or(s).to_string()
+        })
         .collect()
 }
 

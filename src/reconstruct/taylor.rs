@@ -346,7 +346,7 @@ impl TlsReconstruction {
 }
 
 /// TLS reconstruction over consecutive cells (book Eqs. 4.33–4.37, TLS paper
-/// §5.3–5.4). With `integrals = Some(c)`, cell e conserves c[e]; otherwise
+/// §5.3–5.4). With `integrals = Some(c)`, cell e conserves c\[e\]; otherwise
 /// every coefficient is fitted. Data outside every cell is an error.
 pub fn reconstruct(
     cells: &[(f64, f64)],

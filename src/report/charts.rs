@@ -4,7 +4,7 @@
 //! (the `dejavu` crate) so that no system font is needed. Axes carry units,
 //! decades are shown on log scales, and every series has a legend entry.
 //!
-//! Items: [`Style`], [`Series`], [`Chart`], [`write`].
+//! Items: [`Style`], [`Series`], [`Chart`], [`write()`].
 
 use crate::error::{Error, Result};
 use plotters::coord::Shift;

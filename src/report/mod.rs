@@ -12,7 +12,7 @@
 //! A new table is a registration in `tables`; a new chart is one function
 //! here that turns a study into a [`charts::Chart`].
 //!
-//! Items: [`Unimplemented`], [`unimplemented`], [`ReportJson`],
+//! Items: [`Unimplemented`], [`unimplemented()`], [`ReportJson`],
 //! [`Baseline`], [`baseline_of`], [`regressions`],
 //! [`table_markdown`], [`reproduction_markdown`], [`write_file`],
 //! [`ReproduceOptions`], [`convergence_charts`], [`work_precision_chart`],

@@ -39,19 +39,19 @@ use std::f64::consts::PI;
 /// The parameters of the aligned vibration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AlignedVibration {
-    /// Young's modulus E [Pa].
+    /// Young's modulus E \[Pa\].
     pub young: f64,
     /// Poisson's ratio ν.
     pub poisson: f64,
     /// Initial density ρ₀ [kg/m³].
     pub density: f64,
-    /// Amplitude A [m].
+    /// Amplitude A \[m\].
     pub amplitude: f64,
-    /// Side L of the square [m].
+    /// Side L of the square \[m\].
     pub length: f64,
-    /// Duration T [s].
+    /// Duration T \[s\].
     pub duration: f64,
-    /// Time step Δt [s].
+    /// Time step Δt \[s\].
     pub dt: f64,
 }
 

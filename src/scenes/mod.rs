@@ -6,13 +6,13 @@
 //!
 //! - [`vibrating_bar`]: thesis §4.1 (Tables 4.1/4.2), TLS paper §6.1
 //!   (Tables 2/4), book §4.5 (Table 4.1);
-//! - [`column`]: the column under self-weight (thesis §4.2, Tables 4.3/4.4,
+//! - [`column`](mod@column): the column under self-weight (thesis §4.2, Tables 4.3/4.4,
 //!   series solution Eq. 4.2) and with a top load (thesis Table 8.1).
 //!
 //! - [`aligned_vibration`]: the MLS paper's 2D manufactured neo-Hookean
 //!   vibration (Eqs. 38–42).
 //!
-//! Items: [`Discretisation`], [`aligned_vibration`], [`column`], [`vibrating_bar`].
+//! Items: [`Discretisation`], [`aligned_vibration`], [`column`](mod@column), [`vibrating_bar`].
 
 pub mod aligned_vibration;
 pub mod column;

@@ -1,6 +1,6 @@
 //! # p-multigrid
 //!
-//! Book §4.7, Eqs. (4.59)–(4.62), after Tielen et al. (book ref. [235], docs/bibliography.md). The hierarchy is
+//! Book §4.7, Eqs. (4.59)–(4.62), after Tielen et al. (book ref. \[235\], docs/bibliography.md). The hierarchy is
 //! built on the *same* knot spans with degrees p, p−1, …, 1 and maximal
 //! continuity C^{q−1} on every level q; each level's mass matrix is
 //! rediscretised. One two-grid step on level q:

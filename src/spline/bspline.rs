@@ -246,7 +246,7 @@ impl KnotVector {
     /// [`KnotVector::local_basis`] with order 1 that the MPM step calls for
     /// every particle. Book Eqs. (4.19)–(4.20) by the triangle of NURBS Book
     /// A2.2; the derivative is A2.3 at k = 1, which reduces to book Eq. (4.23):
-    /// φ'_{r} = p (ndu[r−1][p−1]/ndu[p][r−1] − ndu[r][p−1]/ndu[p][r]), with
+    /// φ'_{r} = p (ndu\[r−1\]\[p−1\]/ndu\[p\]\[r−1\] − ndu\[r\]\[p−1\]/ndu\[p\]\[r\]), with
     /// the same operations in the same order, so the numbers are bit for bit
     /// those of `local_basis(x, 1)` (tests/properties_bspline.rs). Returns
     /// the index of the first function.

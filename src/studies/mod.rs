@@ -37,7 +37,7 @@ use serde::Serialize;
 /// |u_p| over all steps and the grid crossings (TLS paper §6.1, book §4.5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BarExtremes {
-    /// max over steps and particles of |u_p| [m].
+    /// max over steps and particles of |u_p| \[m\].
     pub max_displacement: f64,
     /// Grid crossings counted by the run's diagnostics.
     pub crossings: usize,
