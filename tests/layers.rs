@@ -4,7 +4,7 @@
 //! one. This test reads every file under src/ and fails on a `crate::x`
 //! path that points up (or sideways, between two modules of one layer).
 
-use std::path::Path;
+mod common;
 
 /// The top-level modules of src/, lowest layer first; modules on one line
 /// share a layer and may not refer to each other.
@@ -27,17 +27,6 @@ const LAYERS: &[&[&str]] = &[
 
 fn layer_of(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
 }
 
 /// The top-level modules a source text refers to: `crate::x` paths and the
@@ -73,13 +62,9 @@ fn referenced_modules(text: &str) -> Vec<String> {
 
 #[test]
 fn no_module_imports_a_higher_layer() {
-    let src = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/src"));
-    let mut files = Vec::new();
-    rust_files(src, &mut files);
     let mut upward = Vec::new();
     let mut unknown = Vec::new();
-    for file in &files {
-        let rel = file.strip_prefix(src).unwrap();
+    for (rel, text) in &common::source_files() {
         let top = rel.iter().next().unwrap().to_string_lossy();
         let module = top.trim_end_matches(".rs");
         if module == "lib" || module == "bin" {
@@ -89,8 +74,7 @@ fn no_module_imports_a_higher_layer() {
             unknown.push(module.to_string());
             continue;
         };
-        let text = std::fs::read_to_string(file).unwrap();
-        for target in referenced_modules(&text) {
+        for target in referenced_modules(text) {
             if target == module || target == "Error" || target == "Result" {
                 continue;
             }

@@ -1,18 +1,7 @@
 //! Every module doc names the public items its module holds (issue #14):
 //! a reader who opens a file learns from its first lines what is in it.
 
-use std::path::Path;
-
-fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
+mod common;
 
 /// The name declared by a top-level `pub fn|struct|enum|const|trait|type|static|mod` line.
 fn public_item(line: &str) -> Option<&str> {
@@ -39,15 +28,9 @@ fn mentions(doc: &str, name: &str) -> bool {
 
 #[test]
 fn every_module_doc_names_its_public_items() {
-    let mut files = Vec::new();
-    rust_files(
-        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/src")),
-        &mut files,
-    );
-    files.sort();
+    let files = common::source_files();
     let mut missing = Vec::new();
-    for file in &files {
-        let text = std::fs::read_to_string(file).unwrap();
+    for (file, text) in &files {
         let doc: String = text
             .lines()
             .filter(|l| l.starts_with("//!"))
@@ -90,21 +73,15 @@ fn listed_items(text: &str) -> Vec<String> {
 /// does not hold, so a moved function cannot leave its name behind.
 #[test]
 fn every_item_a_module_doc_lists_is_in_the_module() {
-    let mut files = Vec::new();
-    rust_files(
-        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/src")),
-        &mut files,
-    );
     let mut stale = Vec::new();
-    for file in &files {
-        let text = std::fs::read_to_string(file).unwrap();
+    for (file, text) in &common::source_files() {
         let declared: Vec<&str> = text.lines().filter_map(public_item).collect();
         let reexported = |name: &str| {
             text.lines()
                 .filter(|l| l.starts_with("pub use "))
                 .any(|l| mentions(l, name))
         };
-        for name in listed_items(&text) {
+        for name in listed_items(text) {
             if !declared.contains(&name.as_str()) && !reexported(&name) {
                 stale.push(format!("{}: {name}", file.display()));
             }

@@ -171,17 +171,23 @@ fn x_tick_label(chart: &Chart) -> impl Fn(&f64) -> String {
     }
 }
 
+/// An axis of f64 values, linear or logarithmic: plotters gives each its
+/// own coordinate type.
+trait Axis: Ranged<ValueType = f64> {}
+impl<T: Ranged<ValueType = f64>> Axis for T {}
+
+/// A chart's drawing context on axes `X` × `Y`.
+type Plot<'a, DB, X, Y> = ChartContext<'a, DB, Cartesian2d<X, Y>>;
+
 /// The dashed horizontal reference lines, each with its legend entry.
-fn draw_reference_lines<'a, DB, X, Y>(
-    ctx: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+fn draw_reference_lines<'a, DB, X: Axis, Y: Axis>(
+    ctx: &mut Plot<'a, DB, X, Y>,
     chart: &Chart,
     (x0, x1): (f64, f64),
 ) -> Result<()>
 where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
 {
     for (y, label) in &chart.hlines {
         let c = RGBColor(90, 90, 90);
@@ -200,16 +206,14 @@ where
 
 /// The reference lines, then the series, each with its legend entry, on
 /// any linear or logarithmic axes; then the legend.
-fn draw_lines_and_series<'a, DB, X, Y>(
-    ctx: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+fn draw_lines_and_series<'a, DB, X: Axis, Y: Axis>(
+    ctx: &mut Plot<'a, DB, X, Y>,
     chart: &Chart,
     x_range: (f64, f64),
 ) -> Result<()>
 where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
 {
     draw_reference_lines(ctx, chart, x_range)?;
     for s in &chart.series {

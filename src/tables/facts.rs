@@ -13,7 +13,8 @@ use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
 use crate::mpm::particles::Particles;
-use crate::scenes::{column, vibrating_bar};
+use crate::scenes::column::{self, ColumnParameters};
+use crate::scenes::vibrating_bar::{self, BarParameters};
 use crate::studies::bar_extremes;
 use crate::studies::tls_paper::{compaction, SMALL_BAR_DT, SMALL_BAR_STEPS};
 
@@ -37,14 +38,26 @@ fn particle_positions() -> Result<Vec<Fact>> {
     ])
 }
 
+/// The benchmarks of thesis Tables 4.1–4.4: two bars and two columns.
+fn thesis_benchmarks() -> Result<(
+    BarParameters,
+    BarParameters,
+    ColumnParameters,
+    ColumnParameters,
+)> {
+    Ok((
+        vibrating_bar::parameters("thesis-table-4.1")?,
+        vibrating_bar::parameters("thesis-table-4.2")?,
+        column::parameters("thesis-table-4.3")?,
+        column::parameters("thesis-table-4.4")?,
+    ))
+}
+
 /// Thesis Eq. (3.5), C = c Δt/Δx, with Δx the element size: n DOFs are
 /// n − 1 elements (thesis Fig. 5.1).
 fn courant_numbers() -> Result<Vec<Fact>> {
     let courant = |c: f64, dt: f64, h: f64| Some(c * dt / h);
-    let b1 = vibrating_bar::parameters("thesis-table-4.1")?;
-    let b2 = vibrating_bar::parameters("thesis-table-4.2")?;
-    let c3 = column::parameters("thesis-table-4.3")?;
-    let c4 = column::parameters("thesis-table-4.4")?;
+    let (b1, b2, c3, c4) = thesis_benchmarks()?;
     Ok(vec![
         (
             "Courant number, bar Table 4.1, 32 elements, Δt = 1e-5 (thesis §5.1.1)",
@@ -72,10 +85,7 @@ fn courant_numbers() -> Result<Vec<Fact>> {
 /// Thesis §4.1–4.2: the analytic strain amplitudes, v0/c for the bar and
 /// ρ|g|H/E (static) for the column.
 fn maximum_strains() -> Result<Vec<Fact>> {
-    let b1 = vibrating_bar::parameters("thesis-table-4.1")?;
-    let b2 = vibrating_bar::parameters("thesis-table-4.2")?;
-    let c3 = column::parameters("thesis-table-4.3")?;
-    let c4 = column::parameters("thesis-table-4.4")?;
+    let (b1, b2, c3, c4) = thesis_benchmarks()?;
     Ok(vec![
         (
             "maximum strain, bar Table 4.1 (thesis §4.1)",

@@ -113,3 +113,29 @@ pub fn published(id: &str) -> hompm::tables::Published {
     let spec = hompm::tables::find(id).unwrap();
     hompm::tables::Published::parse(id, spec.published_json).unwrap()
 }
+
+/// Every `.rs` file under src/, sorted, with its path relative to src/ and
+/// its text (for the tests that read the crate's own sources).
+pub fn source_files() -> Vec<(std::path::PathBuf, String)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let src = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/src"));
+    let mut files = Vec::new();
+    walk(src, &mut files);
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            (p.strip_prefix(src).unwrap().to_path_buf(), text)
+        })
+        .collect()
+}
