@@ -428,3 +428,89 @@ fn knot_vector_refusals_name_the_offending_knots() {
         .to_string();
     assert!(e.contains("knot 2 = 0.25 < knot 1 = 0.5"), "{e}");
 }
+
+/// The queries of a knot vector on one worked by hand: p = 2 and
+/// Ξ = {0, 0, 0, 0.25, 0.25, 0.6, 1, 1, 1} (0-based ξ_0 … ξ_8) have
+/// n = 9 − 2 − 1 = 6 functions on the domain [ξ_2, ξ_6] = [0, 1], the
+/// non-empty spans [0, 0.25], [0.25, 0.6] and [0.6, 1] (ξ_3 = ξ_4 leaves one
+/// empty), and the breakpoints 0, 0.25, 0.6, 1 with multiplicities 3, 2, 1, 3.
+/// The span of x is the largest i in [p, n) with ξ_i ≤ x, and the right end
+/// belongs to the last non-empty span (i = 5).
+#[test]
+fn knot_vector_queries_on_a_hand_worked_vector() {
+    let kv = KnotVector::new(vec![0.0, 0.0, 0.0, 0.25, 0.25, 0.6, 1.0, 1.0, 1.0], 2).unwrap();
+    assert_eq!(kv.num_basis(), 6);
+    assert_eq!(kv.degree(), 2);
+    assert_eq!(kv.domain(), (0.0, 1.0));
+    assert_eq!(kv.knots().len(), 9);
+    assert_eq!(kv.spans(), vec![(0.0, 0.25), (0.25, 0.6), (0.6, 1.0)]);
+    assert_eq!(
+        kv.breakpoints(),
+        vec![(0.0, 3), (0.25, 2), (0.6, 1), (1.0, 3)]
+    );
+    for (x, span) in [
+        (0.0, 2),
+        (0.1, 2),
+        (0.25, 4),
+        (0.3, 4),
+        (0.6, 5),
+        (0.99, 5),
+        (1.0, 5),
+    ] {
+        assert_eq!(kv.find_span(x).unwrap(), span, "x = {x}");
+    }
+    assert_eq!(kv.check_point(0.5).unwrap(), 0.5);
+    for x in [-1e-12, 1.0 + 1e-12, f64::NAN] {
+        assert!(
+            kv.check_point(x).is_err() && kv.find_span(x).is_err(),
+            "x = {x}"
+        );
+    }
+    // Uniform spans take the O(1) guess; the answer is the same rule.
+    let uniform = KnotVector::open_uniform(-1.0, 1.0, 4, 2).unwrap();
+    assert_eq!(
+        uniform.spans(),
+        vec![(-1.0, -0.5), (-0.5, 0.0), (0.0, 0.5), (0.5, 1.0)]
+    );
+    for (x, span) in [
+        (-1.0, 2),
+        (-0.5, 3),
+        (-1e-300, 3),
+        (0.0, 4),
+        (0.7, 5),
+        (1.0, 5),
+    ] {
+        assert_eq!(uniform.find_span(x).unwrap(), span, "x = {x}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// On any valid knot vector: the spans are the windows of consecutive
+    /// breakpoints, the breakpoints' multiplicities add up to the knots in
+    /// the domain, and find_span(x) is the largest i in [p, n) with ξ_i ≤ x
+    /// (the last non-empty span at the right end), whose span holds x.
+    #[test]
+    fn spans_breakpoints_and_find_span_agree_with_the_knots(kv in general_knots(), f in fractions()) {
+        let (a, b) = kv.domain();
+        let (p, n) = (kv.degree(), kv.num_basis());
+        let knots = kv.knots();
+        let breaks = kv.breakpoints();
+        let windows: Vec<(f64, f64)> = breaks.windows(2).map(|w| (w[0].0, w[1].0)).collect();
+        prop_assert_eq!(kv.spans(), windows);
+        let inside = knots.iter().filter(|&&k| a <= k && k <= b).count();
+        prop_assert_eq!(breaks.iter().map(|&(_, m)| m).sum::<usize>(), inside);
+        for t in f {
+            let x = a + t * (b - a);
+            let i = kv.find_span(x).unwrap();
+            prop_assert!((p..n).contains(&i));
+            prop_assert!(knots[i] < knots[i + 1], "span {} is empty", i);
+            prop_assert!(knots[i] <= x && x <= knots[i + 1]);
+            if x < b {
+                let largest = (p..n).rev().find(|&j| knots[j] <= x).unwrap();
+                prop_assert_eq!(i, largest);
+            }
+        }
+    }
+}

@@ -154,3 +154,78 @@ fn stopping_rules_are_at_most_for_richardson_and_strictly_below_for_cg_and_pmult
     let at_equality = mg.solve(&b, first.residuals[1], 100).unwrap();
     assert_eq!(at_equality.iterations, 2);
 }
+
+/// Thesis §7.2 divides by the lumped masses: Richardson and its contraction
+/// refuse a zero, a negative and a NaN lumped mass, each on its own, as
+/// `Error::Singular` (docs/conventions.md).
+#[test]
+fn richardson_refuses_each_kind_of_non_positive_lumped_mass() {
+    use hompm::solve::richardson::richardson_contraction;
+    use hompm::Error;
+    let (mc, _, p) = system();
+    for bad in [0.0, -3.0, f64::NAN] {
+        let ml = vec![3.0, bad];
+        assert!(
+            matches!(richardson(&mc, &ml, &p, 1e-9, 10), Err(Error::Singular(_))),
+            "{bad}"
+        );
+        assert!(
+            matches!(richardson_contraction(&mc, &ml), Err(Error::Singular(_))),
+            "{bad}"
+        );
+    }
+}
+
+/// Book Eq. (4.56) needs a square, non-empty matrix; and whether λ_min is
+/// resolved (n·ε·λ_max, the eigensolver's accuracy) does not depend on the
+/// units: diag(1, 1e-17) and 1e10 · diag(1, 1e-17) are both ill-conditioned
+/// beyond double precision, with κ ≥ 1/(2ε), and 1e10 · diag(1, 1e-3) is
+/// not (κ = 1e3).
+#[test]
+fn eigenvalues_need_a_square_matrix_and_the_rounding_verdict_is_scale_free() {
+    use hompm::solve::spectrum::{spectrum_1d, symmetric_eigenvalues};
+    use hompm::Error;
+    let diag = |a: f64, b: f64| SparseMatrix::from_triplets(2, 2, &[(0, 0, a), (1, 1, b)]).unwrap();
+    let wide = SparseMatrix::from_triplets(2, 3, &[(0, 0, 1.0), (1, 1, 1.0)]).unwrap();
+    let tall = SparseMatrix::from_triplets(3, 2, &[(0, 0, 1.0), (1, 1, 1.0)]).unwrap();
+    let empty = SparseMatrix::from_triplets(0, 0, &[]).unwrap();
+    for m in [&wide, &tall, &empty] {
+        assert!(matches!(
+            symmetric_eigenvalues(m),
+            Err(Error::InvalidArgument(_))
+        ));
+    }
+    for scale in [1.0, 1e10] {
+        // κ ≥ λ_max / (n ε λ_max) = 1/(2ε) is all that can be said.
+        match spectrum_1d(&diag(scale, scale * 1e-17)) {
+            Err(Error::IllConditioned { kappa_at_least, .. }) => {
+                assert_relative_eq!(kappa_at_least, 0.5 / f64::EPSILON, max_relative = 1e-12)
+            }
+            other => panic!("scale {scale}: {other:?}"),
+        }
+        let s = spectrum_1d(&diag(scale, scale * 1e-3)).unwrap();
+        assert_relative_eq!(s.condition_number(), 1e3, max_relative = 1e-12);
+    }
+}
+
+/// At the ends of the f64 range the spectrum is still the matrix's or an
+/// error, never ∞ or NaN in disguise: diag(1e308, 1e308) and
+/// diag(1e-300, 1e-300) have κ = 1 (faer alone returned ∞ for the first);
+/// [[1e308, 1e308], [1e308, 1e308]] has the eigenvalue 2e308, beyond f64,
+/// and the zero matrix has no condition number: both `Error::Singular`.
+#[test]
+fn spectra_at_the_ends_of_the_double_range_are_exact_or_refused() {
+    use hompm::solve::spectrum::spectrum_1d;
+    use hompm::Error;
+    let sym = |a: f64, b: f64| {
+        SparseMatrix::from_triplets(2, 2, &[(0, 0, a), (0, 1, b), (1, 0, b), (1, 1, a)]).unwrap()
+    };
+    for a in [1e308, 1e-300] {
+        let s = spectrum_1d(&sym(a, 0.0)).unwrap();
+        assert_eq!((s.lambda_min, s.lambda_max), (a, a));
+        assert_eq!(s.condition_number(), 1.0);
+    }
+    for m in [sym(1e308, 1e308), sym(0.0, 0.0)] {
+        assert!(matches!(spectrum_1d(&m), Err(Error::Singular(_))), "{m:?}");
+    }
+}

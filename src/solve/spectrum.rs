@@ -39,13 +39,30 @@ pub fn symmetric_eigenvalues(m: &SparseMatrix) -> Result<Vec<f64>> {
         )));
     }
     let n = m.rows();
-    let dense = faer::Mat::<f64>::from_fn(n, n, |i, j| m.get(i, j));
+    let scale = power_of_two_scale(m);
+    let dense = faer::Mat::<f64>::from_fn(n, n, |i, j| m.get(i, j) * scale);
     let ev = dense
         .self_adjoint_eigenvalues(faer::Side::Lower)
         .map_err(|e| Error::NotConverged(format!("eigenvalue solver: {e:?}")))?;
-    let mut v: Vec<f64> = ev.to_vec();
+    let mut v: Vec<f64> = ev.iter().map(|l| l / scale).collect();
     v.sort_by(|a, b| a.total_cmp(b));
     Ok(v)
+}
+
+/// 1, or the power of two that brings the largest entry of `m` to [1, 2)
+/// when that entry lies outside [2⁻²⁵⁶, 2²⁵⁶]: faer's eigensolver overflows
+/// on entries near f64::MAX (diag(1e308, 1e308) came back as ∞). Scaling by
+/// a power of two is exact, so the eigenvalues are those of `m`; matrices of
+/// ordinary size are not scaled at all, and their eigenvalues are unchanged.
+fn power_of_two_scale(m: &SparseMatrix) -> f64 {
+    let largest = (0..m.rows())
+        .flat_map(|i| m.row(i).1.iter())
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let (low, high) = (2f64.powi(-256), 2f64.powi(256));
+    if largest == 0.0 || (low..=high).contains(&largest) {
+        return 1.0;
+    }
+    2f64.powi(-(largest.log2().floor() as i32))
 }
 
 /// λ_min, λ_max of an SPD matrix; `Error::Singular` if λ_min ≤ 0.
@@ -59,8 +76,17 @@ pub fn spectrum_1d(m: &SparseMatrix) -> Result<Spectrum> {
     // n·ε·λ_max: below that, λ_min's sign and size are rounding noise and
     // the honest statement is that κ exceeds what double precision resolves.
     let resolution = ev.len() as f64 * f64::EPSILON * s.lambda_max.abs();
-    if s.lambda_min.is_nan() || s.lambda_max.is_nan() {
-        return Err(Error::Singular("the spectrum is not finite".into()));
+    if !s.lambda_min.is_finite() || !s.lambda_max.is_finite() {
+        return Err(Error::Singular(format!(
+            "the spectrum [{:e}, {:e}] is not finite",
+            s.lambda_min, s.lambda_max
+        )));
+    }
+    if s.lambda_max <= 0.0 {
+        return Err(Error::Singular(format!(
+            "the matrix is not positive definite: λ_max = {:e}",
+            s.lambda_max
+        )));
     }
     if s.lambda_min.abs() <= resolution {
         return Err(Error::IllConditioned {
