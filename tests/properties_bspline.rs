@@ -6,7 +6,7 @@ use approx::assert_relative_eq;
 use common::{general_knots, open_knots, sample_points};
 use hompm::basis::Basis1d;
 use hompm::spline::bspline::{cox_de_boor, cox_de_boor_derivative};
-use hompm::spline::KnotVector;
+use hompm::spline::{KnotVector, TensorBasis2d};
 use proptest::prelude::*;
 
 fn fractions() -> impl Strategy<Value = Vec<f64>> {
@@ -510,6 +510,63 @@ proptest! {
             if x < b {
                 let largest = (p..n).rev().find(|&j| knots[j] <= x).unwrap();
                 prop_assert_eq!(i, largest);
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// MLS paper Eqs. (4)–(5): the 2D function is the product of the 1D ones,
+    /// its gradient is (N'_i N_j, N_i N'_j), and the 2D basis is a partition of unity.
+    #[test]
+    fn tensor_basis_is_product_with_product_gradient(kx in open_knots(4, 0.05), ky in open_knots(4, 0.05),
+                                                     s in 0.0f64..=1.0, t in 0.0f64..=1.0) {
+        let (ax, bx) = kx.domain();
+        let (ay, by) = ky.domain();
+        let (x, y) = (ax + s * (bx - ax), ay + t * (by - ay));
+        let basis = TensorBasis2d::new(kx.clone(), ky.clone());
+        let loc = basis.local_basis(x, y).unwrap();
+        prop_assert!((loc.values.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        let gx: f64 = loc.gradients.iter().map(|g| g[0]).sum();
+        let gy: f64 = loc.gradients.iter().map(|g| g[1]).sum();
+        prop_assert!(gx.abs() < 1e-9 && gy.abs() < 1e-9);
+        let vx = kx.dense_values(x).unwrap();
+        let vy = ky.dense_values(y).unwrap();
+        let dx = kx.dense_derivatives(x).unwrap();
+        let dy = ky.dense_derivatives(y).unwrap();
+        let nx = kx.num_basis();
+        prop_assert_eq!(basis.num_basis(), nx * ky.num_basis());
+        for (k, &idx) in loc.indices.iter().enumerate() {
+            let (i, j) = (idx % nx, idx / nx);
+            prop_assert!((loc.values[k] - vx[i] * vy[j]).abs() < 1e-14);
+            prop_assert!((loc.gradients[k][0] - dx[i] * vy[j]).abs() < 1e-10 * (1.0 + dx[i].abs()));
+            prop_assert!((loc.gradients[k][1] - vx[i] * dy[j]).abs() < 1e-10 * (1.0 + dy[j].abs()));
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The O(1) span guess on uniform knots rounds: (ξ_k − a)·spans/(b − a)
+    /// often comes out just below k at a knot ξ_k itself. find_span still
+    /// answers the rule, the largest i with ξ_i ≤ x, at every knot and just
+    /// either side of it.
+    #[test]
+    fn find_span_on_uniform_knots_is_exact_at_and_beside_every_knot(
+        a in -10.0f64..10.0, length in 0.01f64..20.0, spans in 1usize..50, p in 0usize..4,
+    ) {
+        let kv = KnotVector::open_uniform(a, a + length, spans, p).unwrap();
+        let knots = kv.knots();
+        let (lo, hi) = kv.domain();
+        let rule = |x: f64| (p..kv.num_basis()).rev().find(|&i| knots[i] <= x).unwrap();
+        for k in p..kv.num_basis() {
+            for x in [knots[k], knots[k].next_up(), knots[k].next_down()] {
+                if lo <= x && x < hi {
+                    prop_assert_eq!(kv.find_span(x).unwrap(), rule(x), "x = {}", x);
+                }
             }
         }
     }

@@ -1,12 +1,13 @@
-//! Lagrange P1/P2 (thesis §5.1–5.2) and the 2D tensor basis (MLS paper Eqs. 4–5).
+//! Lagrange P1/P2 (thesis §5.1–5.2). (The 2D tensor B-spline basis, MLS
+//! paper Eqs. 4–5, is tested with the other B-spline properties in
+//! properties_bspline.rs.)
 
 mod common;
 
 use approx::assert_relative_eq;
-use common::open_knots;
 use hompm::basis::Basis1d;
 use hompm::lagrange::{reference_shape_functions, LagrangeBasis, LagrangeOrder};
-use hompm::spline::{KnotVector, TensorBasis2d};
+use hompm::spline::KnotVector;
 use proptest::prelude::*;
 
 /// N̂_i(ξ_j) = δ_ij at the reference nodes (thesis §5.1 and §5.2).
@@ -67,32 +68,6 @@ proptest! {
         }
     }
 
-    /// MLS paper Eqs. (4)–(5): the 2D function is the product of the 1D ones,
-    /// its gradient is (N'_i N_j, N_i N'_j), and the 2D basis is a partition of unity.
-    #[test]
-    fn tensor_basis_is_product_with_product_gradient(kx in open_knots(4, 0.05), ky in open_knots(4, 0.05),
-                                                     s in 0.0f64..=1.0, t in 0.0f64..=1.0) {
-        let (ax, bx) = kx.domain();
-        let (ay, by) = ky.domain();
-        let (x, y) = (ax + s * (bx - ax), ay + t * (by - ay));
-        let basis = TensorBasis2d::new(kx.clone(), ky.clone());
-        let loc = basis.local_basis(x, y).unwrap();
-        prop_assert!((loc.values.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-        let gx: f64 = loc.gradients.iter().map(|g| g[0]).sum();
-        let gy: f64 = loc.gradients.iter().map(|g| g[1]).sum();
-        prop_assert!(gx.abs() < 1e-9 && gy.abs() < 1e-9);
-        let vx = kx.dense_values(x).unwrap();
-        let vy = ky.dense_values(y).unwrap();
-        let dx = kx.dense_derivatives(x).unwrap();
-        let dy = ky.dense_derivatives(y).unwrap();
-        let nx = kx.num_basis();
-        for (k, &idx) in loc.indices.iter().enumerate() {
-            let (i, j) = (idx % nx, idx / nx);
-            prop_assert!((loc.values[k] - vx[i] * vy[j]).abs() < 1e-14);
-            prop_assert!((loc.gradients[k][0] - dx[i] * vy[j]).abs() < 1e-10 * (1.0 + dx[i].abs()));
-            prop_assert!((loc.gradients[k][1] - vx[i] * dy[j]).abs() < 1e-10 * (1.0 + dy[j].abs()));
-        }
-    }
 }
 
 #[test]
