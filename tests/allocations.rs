@@ -136,3 +136,23 @@ fn a_steady_2d_step_allocates_nothing() {
         assert_eq!(allocations() - before, 0, "{method:?}");
     }
 }
+
+/// Book Eqs. (4.26)–(4.29) with one to four unknowns are solved in stack
+/// matrices: a fit allocates only its coefficient vector. (The dynamic
+/// path gives the same numbers but allocates D, BF and the eigen workspace.)
+#[test]
+fn least_squares_fits_of_up_to_four_unknowns_allocate_only_their_coefficients() {
+    use hompm::reconstruct::least_squares::fit_rows;
+    for nb in 1..=4 {
+        let xs: [f64; 6] = [0.1, 0.3, 0.45, 0.7, 0.9, 1.2];
+        let row = |p: usize, psi: &mut [f64]| {
+            for (k, v) in psi.iter_mut().enumerate() {
+                *v = xs[p].powi(k as i32);
+            }
+        };
+        let before = allocations();
+        let fit = fit_rows(xs.len(), nb, row, |p| 1.0 + xs[p], None).unwrap();
+        assert_eq!(allocations() - before, 1, "nb = {nb}");
+        assert_eq!(fit.coefficients.len(), nb);
+    }
+}

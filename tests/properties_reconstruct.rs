@@ -329,3 +329,68 @@ fn tls_value_at_refuses_points_outside_the_cells() {
         Err(hompm::Error::NonFinite { .. })
     ));
 }
+
+/// Book Eqs. (4.26)–(4.29) on data worked by hand: the line through
+/// (0, 1), (1, 3), (2, 5) is f = 1 + 2x, with D = [[3, 3], [3, 5]] and
+/// κ(D) = (4 + √10)/(4 − √10); rows and values of unequal length are refused.
+#[test]
+fn least_squares_fit_of_a_line_worked_by_hand() {
+    use hompm::reconstruct::least_squares::fit;
+    let rows = vec![vec![1.0, 0.0], vec![1.0, 1.0], vec![1.0, 2.0]];
+    let f = fit(&rows, &[1.0, 3.0, 5.0], 2).unwrap();
+    assert!((f.coefficients[0] - 1.0).abs() < 1e-14 && (f.coefficients[1] - 2.0).abs() < 1e-14);
+    let kappa = (4.0 + 10f64.sqrt()) / (4.0 - 10f64.sqrt());
+    assert!((f.condition_number - kappa).abs() < 1e-12 * kappa);
+    assert!(matches!(
+        fit(&rows, &[1.0, 3.0], 2),
+        Err(Error::InvalidArgument(_))
+    ));
+}
+
+/// The two conditioning limits are strict: a TLS cell (TLS paper §5.3) is
+/// refused when κ(D) exceeds its `max_condition` and accepted at exactly
+/// κ(D); any fit is refused above `SINGULAR_CONDITION` (1e12), here two
+/// points 1e-7 apart determining a line (κ ≈ 1.6e15).
+#[test]
+fn conditioning_limits_refuse_above_and_accept_at_the_limit() {
+    use hompm::reconstruct::least_squares::{fit_rows, SINGULAR_CONDITION};
+    let xs = [0.2, 0.5, 0.9];
+    let row = |p: usize, psi: &mut [f64]| psi.copy_from_slice(&[1.0, xs[p], xs[p] * xs[p]]);
+    let value = |p: usize| xs[p].sin();
+    let kappa = fit_rows(3, 3, row, value, None).unwrap().condition_number;
+    assert!(fit_rows(3, 3, row, value, Some(kappa)).is_ok());
+    assert!(matches!(
+        fit_rows(3, 3, row, value, Some(kappa.next_down())),
+        Err(Error::Singular(_))
+    ));
+    let close = [1.0, 1.0 + 1e-7];
+    let line = |p: usize, psi: &mut [f64]| psi.copy_from_slice(&[1.0, close[p]]);
+    match fit_rows(2, 2, line, |p| close[p], None) {
+        Err(Error::Singular(_)) => {}
+        other => panic!("κ above {SINGULAR_CONDITION:e} accepted: {other:?}"),
+    }
+}
+
+/// MLS paper Eq. (17), worked by hand: w(0) = 3/4, w(1/4) = 11/16,
+/// w(1/2) = 1/2 from both pieces, w(1) = 1/8, w(3/2) = 0 from both sides,
+/// w(2) = 0, and w(−r) = w(r).
+#[test]
+fn quadratic_spline_weight_worked_by_hand() {
+    use hompm::reconstruct::mls::quadratic_spline_weight as w;
+    for (r, expected) in [
+        (0.0, 0.75),
+        (0.25, 0.6875),
+        (0.5, 0.5),
+        (0.75, 0.28125),
+        (1.0, 0.125),
+        (1.5, 0.0),
+        (1.75, 0.0),
+        (2.0, 0.0),
+    ] {
+        assert_eq!(w(r), expected, "w({r})");
+        assert_eq!(w(-r), expected, "w(-{r})");
+    }
+    // Continuity at the joins: the two pieces meet.
+    assert!((w(0.5f64.next_up()) - 0.5).abs() < 1e-15);
+    assert!(w(1.5f64.next_down()) < 1e-30);
+}
