@@ -562,8 +562,8 @@ proptest! {
         let knots = kv.knots();
         let (lo, hi) = kv.domain();
         let rule = |x: f64| (p..kv.num_basis()).rev().find(|&i| knots[i] <= x).unwrap();
-        for k in p..kv.num_basis() {
-            for x in [knots[k], knots[k].next_up(), knots[k].next_down()] {
+        for &knot in &knots[p..kv.num_basis()] {
+            for x in [knot, knot.next_up(), knot.next_down()] {
                 if lo <= x && x < hi {
                     prop_assert_eq!(kv.find_span(x).unwrap(), rule(x), "x = {}", x);
                 }
