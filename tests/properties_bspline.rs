@@ -571,3 +571,62 @@ proptest! {
         }
     }
 }
+
+/// One scratch serving degree 3 and then degree 7 (16 and 64 entries in its
+/// triangle, 16 = 2 · 8) resizes and gives degree 7's values and derivatives
+/// bit for bit; a point outside the span it is asked about is refused with
+/// that span's ends.
+#[test]
+fn a_scratch_grows_from_degree_three_to_seven_and_spans_refuse_with_their_ends() {
+    use hompm::spline::bspline::SpanScratch;
+    let low = KnotVector::open_uniform(0.0, 1.0, 4, 3).unwrap();
+    let high = KnotVector::open_uniform(0.0, 1.0, 4, 7).unwrap();
+    let mut scratch = SpanScratch::default();
+    low.local_basis_into(0.3, 3, &mut scratch).unwrap();
+    let first = high.local_basis_into(0.3, 7, &mut scratch).unwrap();
+    let reference = high.local_basis(0.3, 7).unwrap();
+    assert_eq!(first, reference.first);
+    for k in 0..=7 {
+        assert_eq!(scratch.derivative(k), reference.derivatives[k].as_slice());
+    }
+    // The MPM evaluator's scratch (values and gradients only) grows alike.
+    let mut mpm_scratch = SpanScratch::default();
+    let (mut v3, mut g3) = ([0.0; 4], [0.0; 4]);
+    low.values_and_gradients_into(0.3, &mut mpm_scratch, &mut v3, &mut g3)
+        .unwrap();
+    let (mut v7, mut g7) = ([0.0; 8], [0.0; 8]);
+    let first7 = high
+        .values_and_gradients_into(0.3, &mut mpm_scratch, &mut v7, &mut g7)
+        .unwrap();
+    assert_eq!(first7, reference.first);
+    assert_eq!(v7.as_slice(), reference.derivatives[0].as_slice());
+    let order_one = high.local_basis(0.3, 1).unwrap();
+    assert_eq!(g7.as_slice(), order_one.derivatives[1].as_slice());
+    // The span of x = 0.3 on `low` is [0.25, 0.5] (0-based index 4).
+    assert_eq!(low.find_span(0.3).unwrap(), 4);
+    match low.local_basis_on_span(4, 0.7, 0) {
+        Err(hompm::Error::OutsideDomain { x, a, b }) => assert_eq!((x, a, b), (0.7, 0.25, 0.5)),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The knots double precision can divide by and measure: a span of exactly
+/// the smallest normal double is accepted (1/span is finite), a subnormal
+/// span is refused even between two normal knots (1e-300 and 1e-300 +
+/// 1e-310), and a domain whose length overflows is refused even when every
+/// span is finite ([−1e308, 0, 1e308]).
+#[test]
+fn knots_are_refused_exactly_where_double_precision_cannot_divide_or_measure() {
+    assert!(KnotVector::new(vec![0.0, f64::MIN_POSITIVE], 0).is_ok());
+    let a = 1e-300;
+    let b = a + 1e-310;
+    assert!(b - a > 0.0 && b - a < f64::MIN_POSITIVE);
+    assert!(matches!(
+        KnotVector::new(vec![a, a, b, b], 1),
+        Err(hompm::Error::InvalidKnots(_))
+    ));
+    assert!(matches!(
+        KnotVector::new(vec![-1e308, 0.0, 1e308], 0),
+        Err(hompm::Error::InvalidKnots(_))
+    ));
+}
