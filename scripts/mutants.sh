@@ -27,7 +27,7 @@ declare -A TESTS=(
   [lagrange]="properties_lagrange spec_ddmpm"
   [mass]="properties_mass golden_book golden_tables spec_musl_step"
   [solve]="properties_mass spec_richardson spec_pmultigrid golden_book"
-  [reconstruct]="properties_reconstruct golden_tls_example"
+  [reconstruct]="properties_reconstruct golden_tls_example spec_mpm2d allocations"
   [mpm]="spec_musl_step spec_ddmpm properties_mpm golden_thesis golden_tls_conservation stability allocations"
 )
 modules=("$@")

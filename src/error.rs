@@ -15,6 +15,17 @@ pub enum Error {
     /// multiplicity (book §4.3, thesis §6.1).
     #[error("invalid knot vector: {0}")]
     InvalidKnots(String),
+    /// A knot vector that decreases: ξ_index < ξ_{index−1} (book §4.3 asks
+    /// for a non-decreasing sequence).
+    #[error("invalid knot vector: knots must be non-decreasing, but knot {index} = {knot} < knot {} = {previous}", index - 1)]
+    DecreasingKnot {
+        /// Index of the first knot below its predecessor (≥ 1).
+        index: usize,
+        /// Its value ξ_index.
+        knot: f64,
+        /// The value ξ_{index−1} before it.
+        previous: f64,
+    },
     /// A polynomial degree that does not fit the knot vector or the element type.
     #[error("invalid degree: {0}")]
     InvalidDegree(String),
@@ -109,6 +120,21 @@ pub enum Error {
         b: f64,
         /// Why the fit failed (too few points, or κ(D) with its value).
         detail: String,
+    },
+    /// A 2D MLS moment matrix A (MLS paper Eq. 10) at a Gauss point that is
+    /// singular or whose condition number exceeds its limit (`MLS_MAX_CONDITION`
+    /// of the MLS reconstruction): too few particles in the weight's
+    /// support, or all of them on a line.
+    #[error("singular system: MLS moment matrix A at the Gauss point ({:.6}, {:.6}) is singular or has κ₁ = {condition_number:e} > {limit:e}: {particles_in_support} particles in its support", gauss_point[0], gauss_point[1])]
+    SingularMoments {
+        /// The Gauss point (x, y).
+        gauss_point: [f64; 2],
+        /// How many particles have a positive weight there.
+        particles_in_support: usize,
+        /// κ₁(A), or ∞ where A cannot be inverted.
+        condition_number: f64,
+        /// The largest κ₁ accepted.
+        limit: f64,
     },
     /// A run that the stability monitor (`mpm::monitor`) stopped: the energy
     /// grew beyond its bound, or a strain reached ±1.

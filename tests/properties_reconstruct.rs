@@ -394,3 +394,54 @@ fn quadratic_spline_weight_worked_by_hand() {
     assert!((w(0.5f64.next_up()) - 0.5).abs() < 1e-15);
     assert!(w(1.5f64.next_down()) < 1e-30);
 }
+
+/// MLS paper Eqs. (14) and (16), computed independently: on cells of
+/// l_x × l_y = 0.5 × 0.25, the 2D shape functions at (0.3, 0.2) of five
+/// points equal w_p p(x)ᵀ A⁻¹ p(x_p) with the tensor weight
+/// w_p = w((x − x_p)/(2l_x)) · w((y − y_p)/(2l_y)) and A = Σ w_p p(x_p) p(x_p)ᵀ,
+/// built here with nalgebra. With five points and three unknowns the weights
+/// matter: a sum or quotient of the two 1D weights gives other values
+/// (partition of unity and linear reproduction hold for any weights).
+#[test]
+fn mls_2d_shape_functions_are_eq_14_with_the_tensor_weight_of_eq_16() {
+    use hompm::reconstruct::mls::quadratic_spline_weight as w;
+    use nalgebra::{Matrix3, Vector3};
+    let (x, y, lx, ly) = (0.3, 0.2, 0.5, 0.25);
+    let points = [[0.0, 0.0], [0.5, 0.0], [0.1, 0.4], [0.6, 0.3], [0.35, 0.15]];
+    let weights: Vec<f64> = points
+        .iter()
+        .map(|p| w((x - p[0]) / (2.0 * lx)) * w((y - p[1]) / (2.0 * ly)))
+        .collect();
+    let mut a = Matrix3::zeros();
+    for (p, &wp) in points.iter().zip(&weights) {
+        let q = Vector3::new(1.0, p[0], p[1]);
+        a += wp * q * q.transpose();
+    }
+    let z = a.try_inverse().unwrap() * Vector3::new(1.0, x, y);
+    let phi = shape_functions_2d([x, y], &points, [lx, ly]).unwrap();
+    for (k, (p, &wp)) in points.iter().zip(&weights).enumerate() {
+        let expected = wp * z.dot(&Vector3::new(1.0, p[0], p[1]));
+        assert!(
+            (phi[k] - expected).abs() < 1e-12,
+            "φ_{k} = {} but Eq. (14) gives {expected}",
+            phi[k]
+        );
+    }
+    // The same in 1D (Eq. 14 with p = [1, x] and w((x − x_p)/(2l))).
+    let (x, l) = (0.3, 0.5);
+    let points = [0.0, 0.25, 0.5, 0.9];
+    let phi = shape_functions_1d(x, &points, l).unwrap();
+    let weights: Vec<f64> = points.iter().map(|p| w((x - p) / (2.0 * l))).collect();
+    let (s0, s1, s2) = points
+        .iter()
+        .zip(&weights)
+        .fold((0.0, 0.0, 0.0), |s, (p, wp)| {
+            (s.0 + wp, s.1 + wp * p, s.2 + wp * p * p)
+        });
+    let det = s0 * s2 - s1 * s1;
+    for (k, (p, wp)) in points.iter().zip(&weights).enumerate() {
+        // [1, x] A⁻¹ [1, p]ᵀ with A⁻¹ = [[s2, −s1], [−s1, s0]]/det.
+        let expected = wp * (s2 - s1 * (x + p) + s0 * x * p) / det;
+        assert!((phi[k] - expected).abs() < 1e-12, "1D φ_{k}");
+    }
+}

@@ -214,10 +214,20 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
     let err = mls
         .evaluate(&gauss, &x, &y, &cells_of(&grid, &x), &cells_of(&grid, &y))
         .unwrap_err();
-    assert!(
-        matches!(err, Error::Singular(ref m) if m.contains("particles in its support")),
-        "{err}"
-    );
+    match err {
+        Error::SingularMoments {
+            gauss_point,
+            particles_in_support,
+            condition_number,
+            limit,
+        } => {
+            assert!(gauss_point.iter().all(|c| (0.0..=1.0).contains(c)));
+            assert!(particles_in_support >= 3, "{particles_in_support}");
+            assert!(condition_number > limit, "κ₁ = {condition_number:e}");
+            assert_eq!(limit, hompm::reconstruct::mls::MLS_MAX_CONDITION);
+        }
+        other => panic!("collinear particles gave {other:?}"),
+    }
 }
 
 #[test]

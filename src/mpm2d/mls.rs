@@ -238,18 +238,20 @@ impl MlsShapes {
         for &(_, w, d) in gathered {
             accumulate_moment(&mut a, w, d);
         }
-        let first_row = inverse_first_row(&a).and_then(|(row, kappa)| {
+        let inverse = inverse_first_row(&a);
+        if let Some((_, kappa)) = inverse {
             self.largest_condition = self.largest_condition.max(kappa);
-            (kappa <= MLS_MAX_CONDITION).then_some(row)
-        });
-        let Some(z) = first_row else {
-            return Err(Error::Singular(format!(
-                "MLS moment matrix A at the Gauss point ({:.6}, {:.6}) is singular or has κ₁ > {MLS_MAX_CONDITION:e}: {} particles in its support",
-                xg[0],
-                xg[1],
-                self.count[q]
-            )));
-        };
+        }
+        // A that cannot be inverted counts as κ₁ = ∞.
+        let (z, kappa) = inverse.unwrap_or(([0.0; 3], f64::INFINITY));
+        if kappa > MLS_MAX_CONDITION {
+            return Err(Error::SingularMoments {
+                gauss_point: xg,
+                particles_in_support: self.count[q],
+                condition_number: kappa,
+                limit: MLS_MAX_CONDITION,
+            });
+        }
         for &(k, w, d) in &self.local[q][..self.count[q]] {
             self.particle.push(k);
             self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));

@@ -66,13 +66,11 @@ impl KnotVector {
         }
         for i in 1..knots.len() {
             if knots[i] < knots[i - 1] {
-                return Err(Error::InvalidKnots(format!(
-                    "knots must be non-decreasing, but knot {} = {} < knot {} = {}",
-                    i,
-                    knots[i],
-                    i - 1,
-                    knots[i - 1]
-                )));
+                return Err(Error::DecreasingKnot {
+                    index: i,
+                    knot: knots[i],
+                    previous: knots[i - 1],
+                });
             }
         }
         Ok(())
