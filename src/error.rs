@@ -121,19 +121,20 @@ pub enum Error {
         /// Why the fit failed (too few points, or κ(D) with its value).
         detail: String,
     },
-    /// A 2D MLS moment matrix A (MLS paper Eq. 10) at a Gauss point that is
-    /// singular or whose condition number exceeds its limit (`MLS_MAX_CONDITION`
-    /// of the MLS reconstruction): too few particles in the weight's
-    /// support, or all of them on a line.
-    #[error("singular system: MLS moment matrix A at the Gauss point ({:.6}, {:.6}) is singular or has κ₁ = {condition_number:e} > {limit:e}: {particles_in_support} particles in its support", gauss_point[0], gauss_point[1])]
+    /// An MLS moment matrix A (MLS paper Eq. 10) at an evaluation point that
+    /// is singular or whose condition number exceeds its limit
+    /// (`MLS_MAX_CONDITION` of the MLS reconstruction): too few data points
+    /// (particles) in the weight's support, or all of them on a line in 2D.
+    #[error("singular system: MLS moment matrix A at {} is singular or has κ = {condition_number:e} > {limit:e}: {points_in_support} points in its support", point_text(point))]
     SingularMoments {
-        /// The Gauss point (x, y).
-        gauss_point: [f64; 2],
-        /// How many particles have a positive weight there.
-        particles_in_support: usize,
-        /// κ₁(A), or ∞ where A cannot be inverted.
+        /// The evaluation point: (x) in 1D, (x, y) in 2D (a Gauss point in
+        /// the 2D engine).
+        point: Vec<f64>,
+        /// How many data points (particles) have a positive weight there.
+        points_in_support: usize,
+        /// κ(A), or ∞ where A cannot be inverted.
         condition_number: f64,
-        /// The largest κ₁ accepted.
+        /// The largest κ accepted.
         limit: f64,
     },
     /// A run that the stability monitor (`mpm::monitor`) stopped: the energy
@@ -245,4 +246,10 @@ pub fn finite_named(x: f64, what: impl FnOnce() -> String) -> Result<f64> {
             value: x,
         })
     }
+}
+
+/// "(0.300000, 0.200000)": an evaluation point in an error message.
+fn point_text(point: &[f64]) -> String {
+    let coordinates: Vec<String> = point.iter().map(|c| format!("{c:.6}")).collect();
+    format!("({})", coordinates.join(", "))
 }

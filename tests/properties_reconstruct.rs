@@ -129,8 +129,8 @@ proptest! {
 
     /// The cursor evaluation spline-based MPM uses, and a refit into an old
     /// spline's buffers, give bit for bit the numbers of a fresh spline
-    /// evaluated by binary search, for queries in any order and outside the
-    /// nodes too.
+    /// evaluated by binary search, for queries in any order, outside the
+    /// nodes and exactly at them.
     #[test]
     fn spline_cursor_and_refit_are_bitwise_the_plain_evaluation(
         y in proptest::collection::vec(-2.0f64..2.0, 2..20),
@@ -147,7 +147,10 @@ proptest! {
             .refit(&x, &y, end).unwrap();
         prop_assert_eq!(&reused, &CubicSpline::new(&x, &y, end).unwrap().refit(&x, &y, end).unwrap());
         let mut cursor = 0;
-        for &t in &queries {
+        // Random queries, then every node from the last to the first and back:
+        // at a node, both evaluations must use the piece that starts there.
+        let nodes = x.iter().rev().chain(x.iter());
+        for &t in queries.iter().chain(nodes) {
             let plain = fresh.evaluate(t).to_bits();
             prop_assert_eq!(reused.evaluate(t).to_bits(), plain);
             prop_assert_eq!(fresh.evaluate_from(t, &mut cursor).to_bits(), plain);
@@ -270,7 +273,7 @@ fn reconstruction_rejects_bad_input() {
     assert!(CubicSpline::new(&[0.0, f64::NAN], &[0.0, 1.0], EndCondition::Natural).is_err());
     assert!(matches!(
         shape_functions_1d(0.5, &[0.5], 1.0),
-        Err(Error::Singular(_))
+        Err(Error::SingularMoments { .. })
     ));
     assert!(shape_functions_1d(0.5, &[0.0, 1.0], -1.0).is_err());
     assert!(reconstruct(&[(0.0, 1.0)], &[2.0], &[1.0], None, TlsOptions::default()).is_err());
@@ -350,7 +353,8 @@ fn least_squares_fit_of_a_line_worked_by_hand() {
 /// The two conditioning limits are strict: a TLS cell (TLS paper §5.3) is
 /// refused when κ(D) exceeds its `max_condition` and accepted at exactly
 /// κ(D); any fit is refused above `SINGULAR_CONDITION` (1e12), here two
-/// points 1e-7 apart determining a line (κ ≈ 1.6e15).
+/// points 1e-7 apart determining a line (κ ≈ 1.6e15), and accepted at
+/// exactly 1e12.
 #[test]
 fn conditioning_limits_refuse_above_and_accept_at_the_limit() {
     use hompm::reconstruct::least_squares::{fit_rows, SINGULAR_CONDITION};
@@ -369,6 +373,41 @@ fn conditioning_limits_refuse_above_and_accept_at_the_limit() {
         Err(Error::Singular(_)) => {}
         other => panic!("κ above {SINGULAR_CONDITION:e} accepted: {other:?}"),
     }
+    // κ(D) exactly 1e12: D = diag(1e12, 1) from the rows (1e6, 0) and (0, 1).
+    let diagonal = |p: usize, psi: &mut [f64]| {
+        psi.copy_from_slice(if p == 0 { &[1e6, 0.0] } else { &[0.0, 1.0] })
+    };
+    let at_limit = fit_rows(2, 2, diagonal, |_| 1.0, None).unwrap();
+    assert_eq!(at_limit.condition_number, SINGULAR_CONDITION);
+    assert_eq!(at_limit.coefficients, vec![1e-6, 1.0]);
+}
+
+/// Book Eq. (4.26) needs D regular: two points cannot determine a quadratic
+/// (rank D = 2 < 3), so the fit is `Error::Singular` with κ(D) = ∞. For the
+/// points 0.01 and 0.7521 rounding makes λ_min(D) slightly negative
+/// (−1.0e-17) while Cholesky still succeeds, so only the sign test on
+/// λ_min (λ_min ≤ 0 ⇒ κ = ∞) stands between the data and a meaningless fit
+/// with a negative κ.
+#[test]
+fn a_rank_deficient_fit_is_singular_even_where_cholesky_would_succeed() {
+    use hompm::reconstruct::least_squares::fit;
+    use nalgebra::{Matrix3, Vector3};
+    let points = [0.01, 0.7521];
+    let rows: Vec<Vec<f64>> = points.iter().map(|&x| vec![1.0, x, x * x]).collect();
+    let d: Matrix3<f64> = points
+        .iter()
+        .map(|&x| Vector3::new(1.0, x, x * x))
+        .map(|p| p * p.transpose())
+        .sum();
+    let lambda_min = d.symmetric_eigenvalues().min();
+    assert!(
+        lambda_min < 0.0 && d.cholesky().is_some(),
+        "λ_min = {lambda_min:e}"
+    );
+    assert!(matches!(
+        fit(&rows, &[1.0, 2.0], 3),
+        Err(Error::Singular(_))
+    ));
 }
 
 /// MLS paper Eq. (17), worked by hand: w(0) = 3/4, w(1/4) = 11/16,
@@ -396,7 +435,7 @@ fn quadratic_spline_weight_worked_by_hand() {
 }
 
 /// MLS paper Eqs. (14) and (16), computed independently: on cells of
-/// l_x × l_y = 0.5 × 0.25, the 2D shape functions at (0.3, 0.2) of five
+/// l_x × l_y = 0.4 × 0.25, the 2D shape functions at (0.3, 0.2) of five
 /// points equal w_p p(x)ᵀ A⁻¹ p(x_p) with the tensor weight
 /// w_p = w((x − x_p)/(2l_x)) · w((y − y_p)/(2l_y)) and A = Σ w_p p(x_p) p(x_p)ᵀ,
 /// built here with nalgebra. With five points and three unknowns the weights
@@ -406,7 +445,9 @@ fn quadratic_spline_weight_worked_by_hand() {
 fn mls_2d_shape_functions_are_eq_14_with_the_tensor_weight_of_eq_16() {
     use hompm::reconstruct::mls::quadratic_spline_weight as w;
     use nalgebra::{Matrix3, Vector3};
-    let (x, y, lx, ly) = (0.3, 0.2, 0.5, 0.25);
+    // Cell sizes with 2l ≠ 1, so that a wrong operation on r = (x − x_p)/(2l)
+    // cannot hide behind a division by one.
+    let (x, y, lx, ly) = (0.3, 0.2, 0.4, 0.25);
     let points = [[0.0, 0.0], [0.5, 0.0], [0.1, 0.4], [0.6, 0.3], [0.35, 0.15]];
     let weights: Vec<f64> = points
         .iter()
@@ -428,7 +469,7 @@ fn mls_2d_shape_functions_are_eq_14_with_the_tensor_weight_of_eq_16() {
         );
     }
     // The same in 1D (Eq. 14 with p = [1, x] and w((x − x_p)/(2l))).
-    let (x, l) = (0.3, 0.5);
+    let (x, l) = (0.3, 0.3);
     let points = [0.0, 0.25, 0.5, 0.9];
     let phi = shape_functions_1d(x, &points, l).unwrap();
     let weights: Vec<f64> = points.iter().map(|p| w((x - p) / (2.0 * l))).collect();
@@ -444,4 +485,266 @@ fn mls_2d_shape_functions_are_eq_14_with_the_tensor_weight_of_eq_16() {
         let expected = wp * (s2 - s1 * (x + p) + s0 * x * p) / det;
         assert!((phi[k] - expected).abs() < 1e-12, "1D φ_{k}");
     }
+}
+
+/// Thesis §7.1 with natural ends, against the system solved independently:
+/// on unequal gaps, the moments M_i = s''(x_i) solve
+/// h_{i−1} M_{i−1} + 2(h_{i−1} + h_i) M_i + h_i M_{i+1} = 6(s_i − s_{i−1})
+/// with M_0 = M_{m−1} = 0 (built and solved here with nalgebra), and the
+/// spline's own second difference at each node equals M_i. Interpolation
+/// alone cannot see a wrong M: every choice of moments interpolates.
+/// Worked by hand: x = (0, 1, 2), y = (0, 1, 0) gives M_1 = −3 and
+/// s(½) = 11/16. With fewer than four points, not-a-knot is the parabola
+/// (three points) or the line (two) through the data.
+#[test]
+fn natural_moments_solve_the_spline_system_and_short_data_give_parabola_and_line() {
+    use nalgebra::{DMatrix, DVector};
+    let x = [0.0, 0.4, 1.1, 1.5, 2.6, 3.0];
+    let y = [0.3, -0.2, 0.9, 0.1, 0.5, -0.7];
+    let m = x.len();
+    let h: Vec<f64> = (0..m - 1).map(|i| x[i + 1] - x[i]).collect();
+    let slope: Vec<f64> = (0..m - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
+    let mut a = DMatrix::<f64>::zeros(m, m);
+    let mut rhs = DVector::<f64>::zeros(m);
+    a[(0, 0)] = 1.0;
+    a[(m - 1, m - 1)] = 1.0;
+    for i in 1..m - 1 {
+        a[(i, i - 1)] = h[i - 1];
+        a[(i, i)] = 2.0 * (h[i - 1] + h[i]);
+        a[(i, i + 1)] = h[i];
+        rhs[i] = 6.0 * (slope[i] - slope[i - 1]);
+    }
+    let moments = a.lu().solve(&rhs).unwrap();
+    let s = CubicSpline::new(&x, &y, EndCondition::Natural).unwrap();
+    let d = 1e-4;
+    for i in 0..m {
+        let second =
+            (s.evaluate(x[i] + d) - 2.0 * s.evaluate(x[i]) + s.evaluate(x[i] - d)) / (d * d);
+        assert!(
+            (second - moments[i]).abs() < 2e-3 * (1.0 + moments[i].abs()),
+            "s''(x_{i}) = {second} but M_{i} = {}",
+            moments[i]
+        );
+    }
+    // Equality compares nodes, values and moments: the not-a-knot spline of
+    // the same data differs only in its moments.
+    let not_a_knot = CubicSpline::new(&x, &y, EndCondition::NotAKnot).unwrap();
+    assert_ne!(s, not_a_knot);
+    assert_eq!(s.nodes(), &x);
+    // A gap whose cube overflows cannot be evaluated: refused, whether the
+    // spline is a line (two points) or needs the tridiagonal solve.
+    for wide in [vec![0.0, 1e200], vec![0.0, 1.0, 2.0, 0.8e308, 1.7e308]] {
+        let values = vec![1.0; wide.len()];
+        for end in [EndCondition::Natural, EndCondition::NotAKnot] {
+            assert!(
+                matches!(
+                    CubicSpline::new(&wide, &values, end),
+                    Err(Error::InvalidArgument(_))
+                ),
+                "{wide:?} accepted"
+            );
+        }
+    }
+    assert_eq!(s, CubicSpline::new(&x, &y, EndCondition::Natural).unwrap());
+    let hand = CubicSpline::new(&[0.0, 1.0, 2.0], &[0.0, 1.0, 0.0], EndCondition::Natural).unwrap();
+    assert!((hand.evaluate(0.5) - 11.0 / 16.0).abs() < 1e-15);
+    assert!((hand.evaluate(1.5) - 11.0 / 16.0).abs() < 1e-15);
+    // Three points: the parabola 1 − 2t + 3t² through t = 0.5, 1.5, 3, also
+    // outside the nodes; two points: the line.
+    let parabola = |t: f64| 1.0 - 2.0 * t + 3.0 * t * t;
+    let xs = [0.5, 1.5, 3.0];
+    let p = CubicSpline::new(&xs, &xs.map(parabola), EndCondition::NotAKnot).unwrap();
+    for t in [-0.5, 0.3, 1.0, 2.2, 3.4] {
+        assert!(
+            (p.evaluate(t) - parabola(t)).abs() < 1e-12,
+            "parabola at {t}"
+        );
+    }
+    for end in [EndCondition::Natural, EndCondition::NotAKnot] {
+        let line = CubicSpline::new(&[1.0, 3.0], &[2.0, 6.0], end).unwrap();
+        for t in [0.0, 1.5, 2.0, 4.0] {
+            assert!((line.evaluate(t) - 2.0 * t).abs() < 1e-14, "line at {t}");
+        }
+    }
+}
+
+/// MLS paper Eq. (10): A(x) is singular when fewer than n_b points lie in
+/// the weight's support (|x − x_p| < 3l), or all lie on a line in 2D. The
+/// error names the point, the points in the support (here the two copies
+/// of x_p = 0 near x = 0.2; the point at 10 is outside) and κ(A) = ∞.
+#[test]
+fn mls_with_too_few_points_in_the_support_names_the_point_and_the_count() {
+    match shape_functions_1d(0.2, &[0.0, 0.0, 10.0], 0.5) {
+        Err(Error::SingularMoments {
+            point,
+            points_in_support,
+            condition_number,
+            limit,
+        }) => {
+            assert_eq!(point, vec![0.2]);
+            assert_eq!(points_in_support, 2);
+            assert_eq!(condition_number, f64::INFINITY);
+            assert_eq!(limit, hompm::reconstruct::mls::MLS_MAX_CONDITION);
+        }
+        other => panic!("one distinct point in the support gave {other:?}"),
+    }
+    // The limit is strict: at x = 0 between ±1e-6 (l = 1/2), A = diag(2w, 2w·1e-12)
+    // has κ(A) = 1e12 exactly in floating point, and is accepted.
+    let w = hompm::reconstruct::mls::quadratic_spline_weight(1e-6);
+    let a = nalgebra::Matrix2::new(w + w, 0.0, 0.0, w * 1e-6 * 1e-6 + w * -1e-6 * -1e-6);
+    let ev = a.symmetric_eigenvalues();
+    assert_eq!(
+        ev.max() / ev.min(),
+        hompm::reconstruct::mls::MLS_MAX_CONDITION
+    );
+    assert!(shape_functions_1d(0.0, &[-1e-6, 1e-6], 0.5).is_ok());
+    let on_a_line = [[0.0, 0.5], [0.25, 0.5], [0.5, 0.5], [0.75, 0.5]];
+    match shape_functions_2d([0.3, 0.5], &on_a_line, [0.25, 0.25]) {
+        Err(Error::SingularMoments {
+            point,
+            points_in_support,
+            condition_number,
+            ..
+        }) => {
+            assert_eq!(point, vec![0.3, 0.5]);
+            assert_eq!(points_in_support, 4);
+            assert!(condition_number > 1e12, "κ = {condition_number:e}");
+        }
+        other => panic!("collinear points gave {other:?}"),
+    }
+}
+
+/// Book Eq. (4.31) worked by hand on the cell [1, 2] (x_c = 3/2, Δx = 1/2)
+/// at x = 7/4 (x − x_c = 1/4): ψ_2 = 1/2, ψ_3 = (1/16 − 1/12)/(2 · 1/4) = −1/24,
+/// ψ_4 = (1/64)/(6 · 1/8) = 1/48 and ψ_5 = (1/256 − 1/80)/(24 · 1/16) = −11/1920.
+/// The fit of f = 1 + (x − x_c) + (x − x_c)², which is
+/// 13/12 ψ_1 + 1/2 ψ_2 + 1/2 ψ_3, has exactly those coefficients, with the
+/// constraint (book Eq. 4.35, ∫f = 13/12) or without it (Eq. 4.36).
+/// A reconstruction's values cannot see the scaling k! Δx^k; the
+/// coefficients can.
+#[test]
+fn taylor_basis_and_coefficients_worked_by_hand() {
+    use hompm::reconstruct::taylor::fit_cell;
+    let basis = TaylorBasis::new(1.0, 2.0, 5).unwrap();
+    let psi = basis.evaluate(1.75);
+    let expected = [1.0, 0.5, -1.0 / 24.0, 1.0 / 48.0, -11.0 / 1920.0];
+    for (k, (got, want)) in psi.iter().zip(expected).enumerate() {
+        assert!(
+            (got - want).abs() < 1e-15,
+            "ψ_{} = {got}, by hand {want}",
+            k + 1
+        );
+    }
+    assert_eq!(
+        (basis.centroid(), basis.half_width(), basis.volume()),
+        (1.5, 0.5, 1.0)
+    );
+    let f = |x: f64| 1.0 + (x - 1.5) + (x - 1.5) * (x - 1.5);
+    let points = [1.1, 1.3, 1.6, 1.95];
+    let values = points.map(f);
+    let basis = TaylorBasis::new(1.0, 2.0, 3).unwrap();
+    for integral in [None, Some(13.0 / 12.0)] {
+        let fit = fit_cell(basis, &points, &values, integral, 1e10).unwrap();
+        for (got, want) in fit.coefficients.iter().zip([13.0 / 12.0, 0.5, 0.5]) {
+            assert!(
+                (got - want).abs() < 1e-12,
+                "{integral:?}: α = {:?}",
+                fit.coefficients
+            );
+        }
+        assert!((fit.integral() - 13.0 / 12.0).abs() < 1e-12);
+        assert!((fit.evaluate(1.75) - f(1.75)).abs() < 1e-12);
+    }
+}
+
+/// Book Eq. (4.37): the global reconstruction is, at each x, the fit of the
+/// cell that holds x, with half-open cells [a, b) and the last one closed,
+/// and zero outside every cell. Piecewise-constant data (n_b = 1) makes the
+/// three fits differ, so the wrong cell shows: values 1, 2, 3 on
+/// [0, 1), [1, 2), [2, 3], their integrals and κ(D) = 1 per cell. Data
+/// points at both ends of the domain are accepted.
+#[test]
+fn tls_evaluates_the_fit_of_the_half_open_cell_that_holds_the_point() {
+    let cells = [(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)];
+    let options = TlsOptions {
+        order: 1,
+        assignment: Assignment::HalfOpen,
+        ..TlsOptions::default()
+    };
+    // Data at both ends of the domain belong to it.
+    let points = [0.0, 0.5, 1.5, 2.5, 3.0];
+    let values = [1.0, 1.0, 2.0, 3.0, 3.0];
+    let tls = reconstruct(&cells, &points, &values, None, options).unwrap();
+    for (x, value) in [
+        (0.0, 1.0),
+        (0.5, 1.0),
+        (1.0, 2.0),
+        (1.5, 2.0),
+        (2.0, 3.0),
+        (3.0, 3.0),
+        (-0.1, 0.0),
+        (3.1, 0.0),
+    ] {
+        assert!((tls.evaluate(x) - value).abs() < 1e-14, "f̃({x})");
+    }
+    let integrals = tls.cell_integrals();
+    assert_eq!(integrals.len(), 3);
+    for (got, want) in integrals.iter().zip([1.0, 2.0, 3.0]) {
+        assert!((got - want).abs() < 1e-14, "{integrals:?}");
+    }
+    assert_eq!(tls.condition_numbers(), vec![1.0, 1.0, 1.0]);
+    assert_eq!(tls.domain, (0.0, 3.0));
+}
+
+/// TLS paper §5.3's repair ends at n_b = 1: a cell that even a constant
+/// cannot fit (here every κ(D) ≥ 1 exceeds a limit of 0.5) is
+/// `Error::SingularCell` naming the cell, whether the policy reduces the
+/// basis or adds virtual points first. A NaN data value is `NonFinite`,
+/// not a degenerate cell.
+#[test]
+fn a_cell_that_no_order_can_fit_is_a_singular_cell_and_nan_data_is_not() {
+    let cells = [(0.0, 1.0), (1.0, 2.0)];
+    let points = [0.2, 0.6, 1.5];
+    for degenerate in [DegenerateCells::ReduceBasis, DegenerateCells::VirtualPoints] {
+        let options = TlsOptions {
+            max_condition: 0.5,
+            degenerate,
+            ..TlsOptions::default()
+        };
+        match reconstruct(&cells, &points, &[1.0, 2.0, 3.0], None, options) {
+            Err(Error::SingularCell { cell, a, b, detail }) => {
+                assert_eq!((cell, a, b), (0, 0.0, 1.0));
+                // The reason is the order-1 fit's κ(D), not an order below 1.
+                assert!(detail.contains("condition number 1e0"), "{detail}");
+            }
+            other => panic!("{degenerate:?}: {other:?}"),
+        }
+    }
+    match reconstruct(
+        &cells,
+        &points,
+        &[1.0, f64::NAN, 3.0],
+        None,
+        TlsOptions::default(),
+    ) {
+        Err(Error::NonFinite { what, .. }) => assert_eq!(what, "data value 1"),
+        other => panic!("NaN data gave {other:?}"),
+    }
+}
+
+/// The counting sort that groups data points by cell (TLS per cell, book
+/// Eq. 4.37): each cell's points in input order, a point on a shared
+/// boundary in both cells when `cells_of` names two, and the counts.
+#[test]
+fn cell_bins_group_points_by_cell_in_input_order() {
+    use hompm::reconstruct::taylor::CellBins;
+    let cell_of = [(2, None), (0, None), (2, None), (0, Some(1)), (1, None)];
+    let mut bins = CellBins::default();
+    bins.fill(3, cell_of.len(), |k| Ok(cell_of[k])).unwrap();
+    assert_eq!(bins.points_of(0), &[1, 3]);
+    assert_eq!(bins.points_of(1), &[3, 4]);
+    assert_eq!(bins.points_of(2), &[0, 2]);
+    assert_eq!((bins.count(0), bins.count(1), bins.count(2)), (2, 2, 2));
+    bins.fill(3, 1, |_| Ok((1, None))).unwrap();
+    assert_eq!((bins.count(0), bins.count(1), bins.count(2)), (0, 1, 0));
 }

@@ -216,13 +216,14 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
         .unwrap_err();
     match err {
         Error::SingularMoments {
-            gauss_point,
-            particles_in_support,
+            point,
+            points_in_support,
             condition_number,
             limit,
         } => {
-            assert!(gauss_point.iter().all(|c| (0.0..=1.0).contains(c)));
-            assert!(particles_in_support >= 3, "{particles_in_support}");
+            assert_eq!(point.len(), 2);
+            assert!(point.iter().all(|c| (0.0..=1.0).contains(c)));
+            assert!(points_in_support >= 3, "{points_in_support}");
             assert!(condition_number > limit, "κ₁ = {condition_number:e}");
             assert_eq!(limit, hompm::reconstruct::mls::MLS_MAX_CONDITION);
         }

@@ -246,8 +246,8 @@ impl MlsShapes {
         let (z, kappa) = inverse.unwrap_or(([0.0; 3], f64::INFINITY));
         if kappa > MLS_MAX_CONDITION {
             return Err(Error::SingularMoments {
-                gauss_point: xg,
-                particles_in_support: self.count[q],
+                point: xg.to_vec(),
+                points_in_support: self.count[q],
                 condition_number: kappa,
                 limit: MLS_MAX_CONDITION,
             });

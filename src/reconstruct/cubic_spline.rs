@@ -234,7 +234,7 @@ impl Work {
 }
 
 /// Data a cubic spline can interpolate: equal lengths, at least two finite
-/// points, strictly increasing abscissae.
+/// points, strictly increasing abscissae, and gaps whose cube is finite.
 fn check_data(x: &[f64], y: &[f64]) -> Result<()> {
     if x.len() != y.len() {
         return Err(Error::InvalidArgument(format!(
@@ -258,6 +258,15 @@ fn check_data(x: &[f64], y: &[f64]) -> Result<()> {
             k - 1,
             x[k - 1],
             x[k]
+        )));
+    }
+    // The pieces evaluate (x_{i+1} − x)³ and (x − x_i)³ (see `evaluate_piece`),
+    // so a gap whose cube overflows would give ∞ or NaN at its own points.
+    if let Some(k) = (1..x.len()).find(|&k| !(x[k] - x[k - 1]).powi(3).is_finite()) {
+        return Err(Error::InvalidArgument(format!(
+            "the gap x[{k}] − x[{}] = {:e} is too wide for a cubic: its cube overflows",
+            k - 1,
+            x[k] - x[k - 1]
         )));
     }
     Ok(())

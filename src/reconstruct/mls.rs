@@ -11,7 +11,8 @@
 //! quadratic spline w(r) of Eq. (17) with r = |x − x_p|/(2l), l the cell size,
 //! and the tensor product w(r_x) w(r_y) in 2D (Eq. 16). Its support is
 //! |x − x_p| < 3l. A singular A (too few points in the support, or all on a
-//! line in 2D) is `Error::Singular`.
+//! line in 2D) is `Error::SingularMoments`, which names the point, the number
+//! of points in the support and κ(A).
 //!
 //! Items: [`quadratic_spline_weight`], [`MLS_MAX_CONDITION`],
 //! [`shape_functions_1d`], [`shape_functions_2d`], [`reconstruct_1d`].
@@ -63,9 +64,12 @@ where
     }
     let kappa = condition_number_of(a.clone());
     if kappa.is_nan() || kappa > MLS_MAX_CONDITION {
-        return Err(Error::Singular(format!(
-            "MLS moment matrix A has condition number {kappa:e} with {active} points in the support"
-        )));
+        return Err(Error::SingularMoments {
+            point: p_eval[1..].to_vec(),
+            points_in_support: active,
+            condition_number: kappa,
+            limit: MLS_MAX_CONDITION,
+        });
     }
     let chol = a
         .cholesky()

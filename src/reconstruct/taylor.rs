@@ -389,8 +389,9 @@ pub fn reconstruct(
         (Some(f), Some(l)) => (f.0, l.1),
         _ => return Err(Error::InvalidArgument("no cells".into())),
     };
-    for (k, &x) in points.iter().enumerate() {
+    for (k, (&x, &v)) in points.iter().zip(values).enumerate() {
         finite_named(x, || format!("data point {k}"))?;
+        finite_named(v, || format!("data value {k}"))?;
         if x < lo || x > hi {
             return Err(Error::OutsideDomain { x, a: lo, b: hi });
         }
@@ -574,7 +575,7 @@ impl BinnedData<'_> {
 
     /// TLS paper §5.3 for a degenerate cell `e`: with virtual points, add the
     /// neighbours' values first; then lower the order until the fit is
-    /// regular (order 1 failing is the error).
+    /// regular (order 1 failing is `Error::SingularCell`).
     fn repair(
         &self,
         e: usize,
@@ -594,7 +595,10 @@ impl BinnedData<'_> {
             match self.fit(e, order, px, pv) {
                 Ok(f) => break f,
                 Err(_) if order > 1 => order -= 1,
-                Err(err) => return Err(err),
+                Err(err) => {
+                    let (a, b) = self.cells[e];
+                    return Err(singular_cell(e, a, b, err));
+                }
             }
         };
         Ok(fit.map(|mut f| {
