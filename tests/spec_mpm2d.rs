@@ -560,3 +560,35 @@ fn the_claims_are_computed_from_the_runs_as_their_labels_say() {
     // No record at t = 0.02 s in 400 steps: the early rows are not computed.
     assert!(rows[6..].iter().all(|(_, v)| v.iter().all(Option::is_none)));
 }
+
+/// MLS paper §4 initial state, worked by hand: on [0, 2]² with one cell and
+/// 2 × 2 particles per cell, the particles sit at the centres (½, ½) … (3/2,
+/// 3/2) with volume 1 and mass ρV = 3; with v(X) = (x, −2y) the total mass is
+/// 12 and the momentum Σ m v = (12, −24). A particle set needs cells ≥ 1,
+/// per side ≥ 1 and a finite L > 0; a grid keeps its length.
+#[test]
+fn particle_sums_and_refusals_on_a_hand_built_set() {
+    let p = Particles2d::cell_centred(2.0, 1, 2, 3.0, |x| [x[0], -2.0 * x[1]]).unwrap();
+    assert_eq!((p.len(), p.is_empty()), (4, false));
+    assert_eq!(p.total_mass(), 12.0);
+    assert_eq!(p.total_momentum(), [12.0, -24.0]);
+    for (length, cells, per_side) in [
+        (0.0, 1, 2),
+        (f64::NAN, 1, 2),
+        (f64::INFINITY, 1, 2),
+        (-1.0, 1, 2),
+        (2.0, 0, 2),
+        (2.0, 1, 0),
+    ] {
+        assert!(
+            matches!(
+                Particles2d::cell_centred(length, cells, per_side, 3.0, |_| [0.0; 2]),
+                Err(Error::InvalidArgument(_))
+            ),
+            "L = {length}, cells = {cells}, per side = {per_side}"
+        );
+    }
+    assert!(Particles2d::cell_centred(1e-100, 1, 1, 3.0, |_| [0.0; 2]).is_ok());
+    let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 2.0, 2).unwrap();
+    assert_eq!(grid.length(), 2.0);
+}
