@@ -238,12 +238,11 @@ impl MlsShapes {
         for &(_, w, d) in gathered {
             accumulate_moment(&mut a, w, d);
         }
-        let inverse = inverse_first_row(&a);
-        if let Some((_, kappa)) = inverse {
+        // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
+        let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
+        if kappa.is_finite() {
             self.largest_condition = self.largest_condition.max(kappa);
         }
-        // A that cannot be inverted counts as κ₁ = ∞.
-        let (z, kappa) = inverse.unwrap_or(([0.0; 3], f64::INFINITY));
         if kappa > MLS_MAX_CONDITION {
             return Err(Error::SingularMoments {
                 point: xg.to_vec(),
