@@ -89,6 +89,8 @@ fn rigid_translation_creates_no_stress() {
         Method::DDMPM,
         Method::Bsmpm { degree: 2 },
         Method::Bsmpm { degree: 3 },
+        // Width 5: the step's loops with the width read at run time.
+        Method::Bsmpm { degree: 4 },
     ] {
         for mapping in [Mapping::Direct, Mapping::Tls, Mapping::CubicSpline] {
             let grid = if method == Method::DDMPM {
@@ -172,4 +174,189 @@ fn tls_projection_integrates_the_product_of_density_and_velocity() {
     for (i, (p, e)) in ws.momentum.iter().zip(&exact).enumerate() {
         assert!((p - e).abs() < 2e-4, "p_{i} = {p}, ∫ρvφ_{i} = {e}");
     }
+}
+
+/// The run monitors of `RunDiagnostics` by hand (TLS paper Tables 3, 5, 7;
+/// thesis §5.2): each recorder keeps a running maximum, minimum or count.
+#[test]
+fn run_diagnostics_keep_the_extremes_and_counts_of_each_step() {
+    use hompm::mpm::diagnostics::RunDiagnostics;
+    use hompm::mpm::mapping::Projection;
+    let mut d = RunDiagnostics {
+        min_lumped_mass: f64::INFINITY,
+        min_mass_diagonal_ratio: f64::INFINITY,
+        ..Default::default()
+    };
+    // Before any step the two minima are +∞ and JSON leaves them out.
+    let json = serde_json::to_value(&d).unwrap();
+    assert!(json.get("min_lumped_mass").is_none());
+    assert!(json.get("min_mass_diagonal_ratio").is_none());
+    assert_eq!(json["steps"], 0);
+
+    // Lumped masses: zeros are inactive nodes and ignored; a negative mass
+    // counts the step once, however many nodes are negative.
+    d.record_lumped_masses(&[0.0, 2.0, 0.5, 3.0]);
+    assert_eq!((d.min_lumped_mass, d.negative_mass_steps), (0.5, 0));
+    d.record_lumped_masses(&[-0.25, -0.5, 4.0]);
+    assert_eq!((d.min_lumped_mass, d.negative_mass_steps), (-0.5, 1));
+    d.record_lumped_masses(&[1.0, -0.125]);
+    assert_eq!((d.min_lumped_mass, d.negative_mass_steps), (-0.5, 2));
+    let json = serde_json::to_value(&d).unwrap();
+    assert_eq!(json["min_lumped_mass"], -0.5);
+
+    // Projection: grid mass 10.5 against particle mass 10 is 5 %; grid
+    // momentum −3 against −4 is 25 %; a zero particle momentum is skipped.
+    let projection = Projection {
+        grid_mass: 10.5,
+        grid_momentum: -3.0,
+        solver_iterations: 7,
+        diagonal_ratio: 0.25,
+    };
+    d.record_projection(&projection, &[1.0, -6.0, 2.0], &[-3.0, 2.0], 10.0, -4.0);
+    assert_eq!(d.solver_iterations, 7);
+    assert_eq!(d.min_mass_diagonal_ratio, 0.25);
+    assert_eq!(d.max_nodal_velocity, 6.0);
+    assert_eq!(d.max_particle_velocity, 3.0);
+    assert!((d.max_mass_error - 0.05).abs() < 1e-15);
+    assert_eq!(d.max_momentum_error, 0.25);
+    let quieter = Projection {
+        grid_mass: 9.9,
+        grid_momentum: 1.0,
+        solver_iterations: 3,
+        diagonal_ratio: 0.5,
+    };
+    d.record_projection(&quieter, &[1.0], &[1.0], 10.0, 0.0);
+    assert_eq!(d.solver_iterations, 10);
+    assert_eq!(d.min_mass_diagonal_ratio, 0.25);
+    assert_eq!((d.max_nodal_velocity, d.max_particle_velocity), (6.0, 3.0));
+    assert!((d.max_mass_error - 0.05).abs() < 1e-15);
+    assert_eq!(d.max_momentum_error, 0.25);
+    let json = serde_json::to_value(&d).unwrap();
+    assert_eq!(json["min_mass_diagonal_ratio"], 0.25);
+
+    // Particles: the largest |ε_p| and the sum of crossings.
+    d.record_particles(&[0.01, -0.03, 0.02], 2);
+    d.record_particles(&[0.001], 3);
+    assert_eq!((d.max_abs_strain, d.grid_crossings), (0.03, 5));
+}
+
+/// Thesis §3.3 and §6.1: a particle crosses the grid where a basis gradient
+/// jumps. P1 and P2 gradients jump at every interior cell boundary, linear
+/// B-splines too (they are P1), and B-splines of degree ≥ 2 on an open
+/// uniform knot vector have continuous gradients, so nothing to cross.
+#[test]
+fn gradient_breaks_are_the_interior_boundaries_of_c0_bases_and_none_of_smooth_splines() {
+    let interior = vec![0.5, 1.0, 1.5];
+    for method in [Method::Mpm, Method::MpmP2, Method::Bsmpm { degree: 1 }] {
+        let grid = Grid::new(method, 0.0, 2.0, 4).unwrap();
+        assert_eq!(grid.gradient_breaks(), interior, "{method:?}");
+    }
+    for degree in [2, 3] {
+        let grid = Grid::new(Method::Bsmpm { degree }, 0.0, 2.0, 4).unwrap();
+        assert!(grid.gradient_breaks().is_empty(), "degree {degree}");
+        // Debug names the method and the cell count.
+        let shown = format!("{grid:?}");
+        assert!(
+            shown.contains("4 cells") && shown.contains("Bsmpm"),
+            "{shown}"
+        );
+    }
+}
+
+/// The half-open cell assignment c_e ≤ x < c_{e+1}, the last cell closed
+/// (book Eq. 4.38's cells, thesis §7.2): `Grid::cell_of` against a search of
+/// the cell boundaries, at every boundary and its floating-point
+/// neighbours. `cell_of` starts from the guess ⌊(x − a)·cells/(b − a)⌋; the
+/// grids here are chosen so that rounding makes that guess one too low at
+/// some boundaries and one too high at others, so both corrections run.
+#[test]
+fn cell_of_is_the_half_open_cell_even_where_the_uniform_guess_rounds_wrong() {
+    let (mut low, mut high) = (0, 0);
+    for (a, b) in [(0.1, 0.7), (0.0, 1.0), (-0.3, 2.9), (1.0 / 3.0, 5.0)] {
+        for cells in 1..40 {
+            let grid = Grid::new(Method::Mpm, a, b, cells).unwrap();
+            let bounds: Vec<f64> = std::iter::once(grid.cells()[0].0)
+                .chain(grid.cells().iter().map(|c| c.1))
+                .collect();
+            let (a0, b0) = grid.domain();
+            let per_length = cells as f64 / (b0 - a0);
+            for &c in &bounds {
+                for x in [c.next_down(), c, c.next_up()] {
+                    if !(a0..=b0).contains(&x) {
+                        assert!(grid.cell_of(x).is_err(), "{x} outside [{a0}, {b0}]");
+                        continue;
+                    }
+                    let expected = (0..cells)
+                        .find(|&e| bounds[e] <= x && x < bounds[e + 1])
+                        .unwrap_or(cells - 1);
+                    assert_eq!(grid.cell_of(x).unwrap(), expected, "x = {x}, {cells} cells");
+                    let guess = (((x - a0) * per_length) as usize).min(cells - 1);
+                    low += usize::from(guess < expected);
+                    high += usize::from(guess > expected);
+                }
+            }
+        }
+    }
+    assert!(
+        low > 0 && high > 0,
+        "guess too low {low}×, too high {high}×"
+    );
+}
+
+/// Thesis §3.3: a particle moving from x to y crosses |N(y) − N(x)|
+/// gradient breaks, N(x) = #{b ≤ x}. `Grid::breaks_at_or_below` against a
+/// count, at every break and its floating-point neighbours, at both ends and
+/// at points in between; `breaks_at_or_below_is(n, x)` is N(x) = n.
+#[test]
+fn breaks_at_or_below_counts_the_gradient_breaks_up_to_x() {
+    let (mut low, mut high) = (0, 0);
+    for method in [Method::Mpm, Method::MpmP2, Method::Bsmpm { degree: 2 }] {
+        for (a, b) in [(0.1, 0.7), (-0.3, 2.9), (1.0 / 3.0, 5.0)] {
+            for cells in 1..30 {
+                let grid = Grid::new(method, a, b, cells).unwrap();
+                let breaks = grid.gradient_breaks();
+                let (a0, b0) = grid.domain();
+                let per_length = cells as f64 / (b0 - a0);
+                let mut xs = vec![a0, b0, 0.5 * (a0 + b0), a0 + 0.37 * (b0 - a0)];
+                for &c in &breaks {
+                    xs.extend([c.next_down(), c, c.next_up()]);
+                }
+                for x in xs {
+                    let expected = breaks.iter().filter(|&&c| c <= x).count();
+                    let n = grid.breaks_at_or_below(x);
+                    assert_eq!(n, expected, "{method:?}, x = {x}, {cells} cells");
+                    for m in 0..=breaks.len() + 1 {
+                        assert_eq!(
+                            grid.breaks_at_or_below_is(m, x),
+                            m == expected,
+                            "{m} at {x}"
+                        );
+                    }
+                    if !breaks.is_empty() {
+                        let guess = (((x - a0) * per_length) as usize).min(breaks.len());
+                        low += usize::from(guess < expected);
+                        high += usize::from(guess > expected);
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        low > 0 && high > 0,
+        "guess too low {low}×, too high {high}×"
+    );
+}
+
+/// Thesis §3.2: particles "initially equally distributed", each at the
+/// centre of its sub-interval, x_p = a + (p − ½)(b − a)/n (p from 1) and
+/// V_p = (b − a)/n, m_p = ρ V_p; on [1, 3] with n = 4: x = 1.25, 1.75, …
+#[test]
+fn uniform_particles_sit_at_the_centres_of_equal_sub_intervals() {
+    let p = Particles::uniform(1.0, 3.0, 4, 2.0).unwrap();
+    assert_eq!(p.x, vec![1.25, 1.75, 2.25, 2.75]);
+    assert_eq!(p.x0, p.x);
+    assert_eq!(p.volume, vec![0.5; 4]);
+    assert_eq!(p.mass, vec![1.0; 4]);
+    assert_eq!((p.len(), p.is_empty(), p.total_mass()), (4, false, 4.0));
+    assert!(Particles::uniform(1.0, 3.0, 0, 2.0).is_err());
 }

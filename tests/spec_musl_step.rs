@@ -21,7 +21,25 @@ use hompm::mpm::particles::Particles;
 const DT: f64 = 0.1;
 
 fn two_particles(constitutive: Constitutive) -> Simulation {
-    let grid = Grid::new(Method::Mpm, 0.0, 2.0, 2).unwrap();
+    two_particles_configured(constitutive, |_, _| {})
+}
+
+/// The table's two particles after one step, with `configure` applied to
+/// the particles and settings before the step.
+fn two_particles_configured(
+    constitutive: Constitutive,
+    configure: impl FnOnce(&mut Particles, &mut Settings),
+) -> Simulation {
+    two_particles_on(2, constitutive, configure)
+}
+
+/// The same on `cells` unit cells [0, cells]: nodes beyond 2 get no mass.
+fn two_particles_on(
+    cells: usize,
+    constitutive: Constitutive,
+    configure: impl FnOnce(&mut Particles, &mut Settings),
+) -> Simulation {
+    let grid = Grid::new(Method::Mpm, 0.0, cells as f64, cells).unwrap();
     let mut p = Particles::new(
         vec![0.5, 1.25],
         vec![1.0, 0.5],
@@ -42,6 +60,8 @@ fn two_particles(constitutive: Constitutive) -> Simulation {
         dirichlet: vec![],
         consistent_acceleration: false,
     };
+    let mut settings = settings;
+    configure(&mut p, &mut settings);
     let mut sim = Simulation::new(grid, p, settings).unwrap();
     sim.step(DT).unwrap();
     sim
@@ -83,6 +103,77 @@ fn eq_4_8_nodal_acceleration_is_net_force_over_lumped_mass() {
     // a = [(0 − 1 + 3)/1, (0.375 − 2.5 − 3.5)/2.5, (0.125 − 0.5 + 0.5)/0.5]
     let sim = two_particles(Constitutive::SmallStrain);
     assert_all(&sim.workspace().acceleration, &[2.0, -2.25, 0.25]);
+}
+
+/// Step 2 with the material-point consistent mass (book Eq. 4.7 before
+/// lumping): M^C = Σ_p m_p φ(x_p) φ(x_p)ᵀ
+/// = [[½, ½, 0], [½, 1⅝, ⅜], [0, ⅜, ⅛]], singular with two particles on
+/// three nodes. With node 0 a Dirichlet DOF, the free DOFs {1, 2} solve
+/// [[1⅝, ⅜], [⅜, ⅛]] a = (−5.625, 0.125), the net forces above:
+/// a = (−12, 37), and a_0 = 0. On three cells node 3 has no mass: it is
+/// left out of the solve too, and its acceleration is 0.
+#[test]
+fn eq_4_7_consistent_acceleration_solves_the_free_dofs_only() {
+    let sim = two_particles_configured(Constitutive::SmallStrain, |_, s| {
+        s.consistent_acceleration = true;
+        s.dirichlet = vec![0];
+    });
+    assert_all(&sim.workspace().acceleration, &[0.0, -12.0, 37.0]);
+    let sim = two_particles_on(3, Constitutive::SmallStrain, |_, s| {
+        s.consistent_acceleration = true;
+        s.dirichlet = vec![0];
+    });
+    assert_all(&sim.workspace().acceleration, &[0.0, -12.0, 37.0, 0.0]);
+}
+
+/// Thesis §3.2: traction on every particle, f_i^trac = Σ_p f_p^trac φ_i(x_p):
+/// 0.25·(½, ½, 0) + 0.5·(0, ¾, ¼) = (0.125, 0.5, 0.125).
+#[test]
+fn thesis_3_2_traction_on_every_particle_is_mapped() {
+    let sim = two_particles_configured(Constitutive::SmallStrain, |p, _| {
+        p.traction = vec![0.25, 0.5];
+    });
+    assert_all(&sim.workspace().traction_force, &[0.125, 0.5, 0.125]);
+}
+
+/// The gravity ramp of the compaction scene: g(t) = g·min(t/t_ramp, 1) for
+/// a ramp time t_ramp > 0, and g without a ramp or with t_ramp ≤ 0.
+#[test]
+fn gravity_ramps_linearly_up_to_its_full_value() {
+    let ramped = two_particles_configured(Constitutive::SmallStrain, |_, s| {
+        s.gravity_ramp = Some(2.0);
+    });
+    assert_eq!(ramped.gravity_at(0.5), -0.25);
+    assert_eq!(ramped.gravity_at(2.0), -1.0);
+    assert_eq!(ramped.gravity_at(3.0), -1.0);
+    for ramp in [None, Some(0.0), Some(-1.0)] {
+        let sim = two_particles_configured(Constitutive::SmallStrain, |_, s| {
+            s.gravity_ramp = ramp;
+        });
+        assert_eq!(sim.gravity_at(0.5), -1.0, "{ramp:?}");
+    }
+}
+
+/// The particle arrays are public, so a caller may replace the particles
+/// between steps: the next step sizes its buffers to the new count and
+/// gives what a new simulation of those particles gives.
+#[test]
+fn a_step_after_the_particles_were_replaced_is_a_fresh_step() {
+    let mut sim = two_particles(Constitutive::SmallStrain);
+    let three = Particles::new(
+        vec![0.2, 0.9, 1.7],
+        vec![0.4, 0.5, 0.6],
+        vec![1.0, 2.0, 3.0],
+        vec![0.5, 0.0, -0.5],
+        vec![1.0, -1.0, 2.0],
+    )
+    .unwrap();
+    let grid = Grid::new(Method::Mpm, 0.0, 2.0, 2).unwrap();
+    let mut fresh = Simulation::new(grid, three.clone(), sim.settings.clone()).unwrap();
+    sim.particles = three;
+    sim.step(DT).unwrap();
+    fresh.step(DT).unwrap();
+    assert_eq!(sim.particles, fresh.particles);
 }
 
 #[test]
@@ -180,4 +271,157 @@ fn the_step_advances_time_and_counts_one_grid_crossing() {
     fast.step(0.1).unwrap();
     assert_relative_eq!(fast.particles.x[0], 1.2, epsilon = 1e-12);
     assert_eq!(fast.diagnostics.grid_crossings, 1);
+}
+
+// ---------------------------------------------------------------------------
+// The cubic-spline mapping of thesis §7.1–7.2, by hand.
+//
+// Four P1 cells on [0, 4] (h = 1, ∇φ = ∓1 on the cell's two nodes) and five
+// particles given out of order, so that the leftmost is not the first:
+//
+// | p | x_p  | V_p | σ_p  |
+// |---|------|-----|------|
+// | 0 | 2.1  | 0.5 | 1    |
+// | 1 | 0.9  | 0.6 | −2   |
+// | 2 | 3.05 | 0.3 | 0.5  |
+// | 3 | 1.6  | 0.5 | 3    |
+// | 4 | 2.6  | 0.5 | −1   |
+//
+// The continuum is Ω_t = [x_1 − V_1/2, x_N + V_N/2] = [0.6, 3.2]. The
+// half spans [0, 0.5] and [3.5, 4] miss it and are dropped. The thesis rule
+// keeps both Gauss points of [0.5, 1], since 0.5 + 0.25(1 − 1/√3) ≈ 0.606
+// lies inside. The rule of `CubicSplineClipped` clips that half span to
+// [0.6, 1]. Both rules clip [3, 3.5] to [3, 3.2].
+
+use hompm::mpm::mapping::{internal_force, MappingWorkspace};
+use hompm::reconstruct::cubic_spline::{CubicSpline, EndCondition};
+
+fn five_unsorted_particles() -> Particles {
+    Particles::new(
+        vec![2.1, 0.9, 3.05, 1.6, 2.6],
+        vec![0.5, 0.6, 0.3, 0.5, 0.5],
+        vec![1.0; 5],
+        vec![0.0; 5],
+        vec![1.0, -2.0, 0.5, 3.0, -1.0],
+    )
+    .unwrap()
+}
+
+/// Two-point Gauss on [c, d]: (c + d)/2 ± (d − c)/(2√3), weights (d − c)/2.
+fn gauss2(c: f64, d: f64) -> [(f64, f64); 2] {
+    let (m, r) = (0.5 * (c + d), 0.5 * (d - c));
+    [(m - r / 3f64.sqrt(), r), (m + r / 3f64.sqrt(), r)]
+}
+
+/// Thesis §7.2's quadrature on the half spans of the unit cells of [0, 4],
+/// restricted to Ω_t = [left, right]; `(x, w, cell)`.
+fn half_span_rule(left: f64, right: f64, clip_every_half_span: bool) -> Vec<(f64, f64, usize)> {
+    let mut rule = Vec::new();
+    for e in 0..4 {
+        let a = e as f64;
+        for (c, d) in [(a, a + 0.5), (a + 0.5, a + 1.0)] {
+            let pair = gauss2(c, d);
+            let inside = |x: f64| (left..=right).contains(&x);
+            let whole = if clip_every_half_span {
+                c >= left && d <= right
+            } else {
+                pair.iter().all(|&(x, _)| inside(x))
+            };
+            let points = if whole {
+                pair.to_vec()
+            } else if d.min(right) > c.max(left) {
+                gauss2(c.max(left), d.min(right)).to_vec()
+            } else {
+                vec![]
+            };
+            rule.extend(points.into_iter().map(|(x, w)| (x, w, e)));
+        }
+    }
+    rule
+}
+
+#[test]
+fn thesis_7_2_spline_force_integrates_the_stress_spline_over_half_spans_clipped_to_the_continuum() {
+    let grid = Grid::new(Method::Mpm, 0.0, 4.0, 4).unwrap();
+    let p = five_unsorted_particles();
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    // σ̃: the not-a-knot spline through the particles sorted by position.
+    let sorted = [
+        (0.9, -2.0),
+        (1.6, 3.0),
+        (2.1, 1.0),
+        (2.6, -1.0),
+        (3.05, 0.5),
+    ];
+    let (xs, ss): (Vec<f64>, Vec<f64>) = sorted.iter().copied().unzip();
+    let stress = CubicSpline::new(&xs, &ss, EndCondition::NotAKnot).unwrap();
+    for (mapping, clip) in [
+        (Mapping::CubicSpline, false),
+        (Mapping::CubicSplineClipped, true),
+    ] {
+        let rule = half_span_rule(0.6, 3.2, clip);
+        assert_eq!(
+            rule.len(),
+            12,
+            "three of eight half spans keep no or clipped points"
+        );
+        // f_i = Σ_q w_q σ̃(x_q) ∇φ_i(x_q), ∇φ = (−1, +1) on the nodes of the cell.
+        let mut expected = [0.0; 5];
+        for &(x, w, e) in &rule {
+            expected[e] -= w * stress.evaluate(x);
+            expected[e + 1] += w * stress.evaluate(x);
+        }
+        let mut ws = MappingWorkspace::new(&grid, 5).unwrap();
+        // Twice: the second step must rebuild the points, not add to them.
+        for _ in 0..2 {
+            ws.begin_step(&grid, &p, &[mapping]).unwrap();
+            let mut force = vec![0.0; 5];
+            internal_force(&grid, &p, &stencils, mapping, &mut ws, &mut force).unwrap();
+            for i in 0..5 {
+                assert!(
+                    (force[i] - expected[i]).abs() < 1e-13,
+                    "{mapping:?}: f_{i} = {} against {}",
+                    force[i],
+                    expected[i]
+                );
+            }
+        }
+        // A force vector that does not match the grid's DOFs is refused.
+        let mut short = vec![0.0; 4];
+        let refused = internal_force(&grid, &p, &stencils, mapping, &mut ws, &mut short);
+        assert!(matches!(refused, Err(hompm::Error::InvalidArgument(_))));
+    }
+}
+
+/// Book Eq. (4.10)'s mass matrix M_ij = Σ_p m_p φ_i(x_p) φ_j(x_p) has the
+/// diagonal M_ii = Σ_p m_p φ_i(x_p)², here (0.5, 1.625, 0.125) (see the
+/// table at the top), whichever mass matrix the projection then solves with.
+#[test]
+fn eq_4_10_projection_diagonal_is_the_mass_weighted_square_of_the_basis() {
+    use hompm::mpm::mapping::{project_velocity, ConsistentSolver};
+    let grid = &Grid::new(Method::Mpm, 0.0, 2.0, 2).unwrap();
+    let p = &Particles::new(
+        vec![0.5, 1.25],
+        vec![1.0, 0.5],
+        vec![2.0, 4.0],
+        vec![1.0, -2.0],
+        vec![3.0, -1.0],
+    )
+    .unwrap();
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    for mass in [
+        MassMatrix::Lumped,
+        MassMatrix::Consistent(ConsistentSolver::Cholesky),
+    ] {
+        let mut ws = MappingWorkspace::new(grid, 2).unwrap();
+        ws.begin_step(grid, p, &[Mapping::Direct]).unwrap();
+        let projection =
+            project_velocity(grid, p, &stencils, Mapping::Direct, mass, &mut ws).unwrap();
+        assert_all(&ws.diagonal, &[0.5, 1.625, 0.125]);
+        assert_relative_eq!(
+            projection.diagonal_ratio,
+            0.125 / 1.625,
+            max_relative = 1e-14
+        );
+    }
 }

@@ -185,3 +185,213 @@ fn the_monitors_critical_courant_numbers_are_the_measured_ones() {
     }
     assert_eq!(measured_critical_courant(Method::Bsmpm { degree: 4 }), None);
 }
+
+/// `mpm::monitor` by hand. Two particles of mass 2 on one P1 cell, no loads
+/// (g = 0, no traction), σ = ε = 0: the energy is Σ ½ m_p v_p². With
+/// v = (1, 0) it is E₀ = 1, so the budget is 10 × (E₀ + 0) = 10, and
+/// v = (1, 3) reaches it exactly (1 + 9): the run goes on at the budget and
+/// stops above it, naming the fastest particle. A strain of ±1 stops it too.
+#[test]
+fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
+    use hompm::error::DivergenceCause;
+    use hompm::mpm::grid::Grid;
+    use hompm::mpm::monitor::{StabilityMonitor, Warning};
+    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::particles::Particles;
+    let particles = Particles::new(
+        vec![0.25, 0.75],
+        vec![0.5, 0.5],
+        vec![4.0, 4.0],
+        vec![1.0, 0.0],
+        vec![0.0, 0.0],
+    )
+    .unwrap();
+    let settings = Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: Constitutive::SmallStrain,
+        young: 100.0,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+    };
+    let grid = Grid::new(Method::Mpm, 0.0, 1.0, 1).unwrap();
+    let mut sim = Simulation::new(grid, particles, settings).unwrap();
+    // c = √(E/ρ) = 5, h = 1: the critical step of P1 is 1.65 h / c = 0.33.
+    let mut monitor = StabilityMonitor::new(&sim, 0.1).unwrap();
+    assert_eq!(monitor.energy_budget(), 10.0);
+    assert!(monitor.warnings().is_empty());
+    assert_eq!(monitor.check(&sim), Ok(()));
+
+    sim.particles.v = vec![1.0, 3.0];
+    assert_eq!(sim.energy(), 10.0);
+    assert_eq!(monitor.check(&sim), Ok(()), "at the budget the run goes on");
+    sim.particles.v = vec![1.0, 3.5];
+    match monitor.check(&sim) {
+        Err(Error::Diverged {
+            particle: Some(1),
+            cause: DivergenceCause::EnergyGrowth { energy, budget, .. },
+            ..
+        }) => assert_eq!((energy, budget), (13.25, 10.0)),
+        other => panic!("expected energy growth at particle 1, got {other:?}"),
+    }
+
+    sim.particles.v = vec![1.0, 0.0];
+    sim.particles.strain = vec![0.0, -0.999];
+    assert_eq!(monitor.check(&sim), Ok(()));
+    sim.particles.strain = vec![0.0, -1.0];
+    match monitor.check(&sim) {
+        Err(Error::Diverged {
+            particle: Some(1),
+            cause: DivergenceCause::StrainLimit { strain },
+            ..
+        }) => assert_eq!(strain, -1.0),
+        other => panic!("expected the strain limit at particle 1, got {other:?}"),
+    }
+
+    // Above the critical step: the CFL warning, recorded at once.
+    let above = StabilityMonitor::new(&sim, 0.34).unwrap();
+    match above.warnings() {
+        [w @ Warning::TimeStepAboveCritical {
+            dt,
+            critical_dt,
+            critical_courant,
+        }] => {
+            assert_eq!((*dt, *critical_courant), (0.34, 1.65));
+            assert!((critical_dt - 0.33).abs() < 1e-15);
+            assert!(
+                w.to_string()
+                    .contains("dt = 3.4e-1 is above the critical step"),
+                "{w}"
+            );
+        }
+        other => panic!("expected one CFL warning, got {other:?}"),
+    }
+}
+
+/// Thesis §5.2: negative lumped masses do not stop a run; the monitor keeps
+/// one warning, from the first step that had one, with the latest count and
+/// the most negative mass.
+#[test]
+fn the_monitor_keeps_one_negative_mass_warning_from_its_first_step() {
+    use hompm::mpm::grid::Grid;
+    use hompm::mpm::monitor::{StabilityMonitor, Warning};
+    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::particles::Particles;
+    let settings = Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: Constitutive::SmallStrain,
+        young: 1.0,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+    };
+    let grid = Grid::new(Method::MpmP2, 0.0, 1.0, 1).unwrap();
+    let particles = Particles::uniform(0.0, 1.0, 2, 1.0).unwrap();
+    let mut sim = Simulation::new(grid, particles, settings).unwrap();
+    let mut monitor = StabilityMonitor::new(&sim, 1e-3).unwrap();
+    monitor.check(&sim).unwrap();
+    assert!(monitor.warnings().is_empty(), "no negative mass yet");
+    (sim.diagnostics.steps, sim.diagnostics.negative_mass_steps) = (3, 1);
+    sim.diagnostics.min_lumped_mass = -0.25;
+    monitor.check(&sim).unwrap();
+    (sim.diagnostics.steps, sim.diagnostics.negative_mass_steps) = (5, 2);
+    sim.diagnostics.min_lumped_mass = -0.5;
+    monitor.check(&sim).unwrap();
+    let expected = Warning::NegativeLumpedMass {
+        first_step: 3,
+        steps: 2,
+        min_lumped_mass: -0.5,
+    };
+    assert_eq!(monitor.warnings(), &[expected.clone()][..]);
+    assert_eq!(
+        expected.to_string(),
+        "negative lumped masses in 2 steps from step 3 (min -5e-1; thesis §5.2)"
+    );
+}
+
+/// The check that ends every step: the first particle with a non-finite
+/// position, velocity or stress, or a volume ≤ 0, is a
+/// `NonPhysicalParticle` (naming whether negative masses came before);
+/// otherwise the first particle outside [a, b] is `ParticleLeftGrid`. A
+/// particle exactly on an end of the grid is inside.
+#[test]
+fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside() {
+    use hompm::mpm::grid::Grid;
+    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::particles::Particles;
+    let settings = Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: Constitutive::SmallStrain,
+        young: 1.0,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+    };
+    let grid = Grid::new(Method::Mpm, 0.0, 1.0, 2).unwrap();
+    let particles = Particles::uniform(0.0, 1.0, 3, 1.0).unwrap();
+    let mut sim = Simulation::new(grid, particles, settings).unwrap();
+    sim.particles.x = vec![0.0, 0.5, 1.0];
+    assert_eq!(
+        sim.check_particles_are_physical(),
+        Ok(()),
+        "both ends are inside"
+    );
+
+    let non_physical = |sim: &Simulation| match sim.check_particles_are_physical() {
+        Err(Error::NonPhysicalParticle {
+            particle,
+            negative_masses,
+            ..
+        }) => (particle, negative_masses),
+        other => panic!("expected a non-physical particle, got {other:?}"),
+    };
+    // One bad field at a time, each on its own.
+    let clean = sim.particles.clone();
+    for (field, bad) in [
+        ("x", f64::NAN),
+        ("v", f64::INFINITY),
+        ("stress", f64::NEG_INFINITY),
+        ("volume", 0.0),
+        ("volume", -0.1),
+    ] {
+        sim.particles = clean.clone();
+        let target = match field {
+            "x" => &mut sim.particles.x,
+            "v" => &mut sim.particles.v,
+            "stress" => &mut sim.particles.stress,
+            _ => &mut sim.particles.volume,
+        };
+        target[1] = bad;
+        target[2] = bad;
+        assert_eq!(non_physical(&sim), (1, false), "{field} = {bad}");
+    }
+    sim.diagnostics.negative_mass_steps = 2;
+    assert_eq!(non_physical(&sim), (1, true));
+
+    // Outside: the first particle beyond either end, after the physical check.
+    sim.particles = clean.clone();
+    for (x, first) in [
+        ([0.5, 0.0f64.next_down(), -1.0], 1),
+        ([0.5, 1.0f64.next_up(), 2.0], 1),
+        ([-1.0, 0.5, 2.0], 0),
+    ] {
+        sim.particles.x = x.to_vec();
+        match sim.check_particles_are_physical() {
+            Err(Error::ParticleLeftGrid { particle, a, b, .. }) => {
+                assert_eq!((particle, a, b), (first, 0.0, 1.0), "{x:?}");
+            }
+            other => panic!("expected particle {first} outside for {x:?}, got {other:?}"),
+        }
+    }
+    sim.particles.stress[2] = f64::NAN;
+    assert_eq!(non_physical(&sim), (2, true), "non-physical comes first");
+}

@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::quadrature::{half_span_points, GaussLegendre, QuadraturePoint};
 use crate::reconstruct::cubic_spline::{CubicSpline, EndCondition};
 use crate::reconstruct::taylor::{
-    reconstruct_binned, Assignment, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
+    reconstruct_binned, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
 };
 use crate::solve::direct::cholesky_solve;
 use crate::solve::richardson::richardson;
@@ -91,13 +91,6 @@ pub enum MassMatrix {
 /// Gauss points per cell for TLS: n_b ≤ 2 N_g/N_e (TLS paper §5.5), i.e. two
 /// for quadratic TLS, as the paper uses.
 pub const TLS_GAUSS_POINTS: usize = 2;
-
-fn tls_options() -> TlsOptions {
-    TlsOptions {
-        assignment: Assignment::HalfOpen,
-        ..TlsOptions::default()
-    }
-}
 
 /// Quadrature points with the basis evaluated at them.
 #[derive(Debug, Clone, Default)]
@@ -333,7 +326,10 @@ fn particle_spline(
 }
 
 /// TLS of particle `values` over particles binned by cell (book Eqs.
-/// 4.33–4.37), conservative when cell integrals are given.
+/// 4.33–4.37), conservative when cell integrals are given. The bins are
+/// half-open ([`Grid::cell_of`]), so a particle on a cell boundary belongs
+/// to the cell on its right; the default options are quadratic TLS with
+/// virtual points and a κ limit of 1e10.
 fn particle_tls(
     cells: &[(f64, f64)],
     bins: &CellBins,
@@ -348,7 +344,7 @@ fn particle_tls(
         &particles.x,
         values,
         integrals,
-        tls_options(),
+        TlsOptions::default(),
         scratch,
     )
 }

@@ -181,7 +181,8 @@ impl Simulation {
         })
     }
 
-    /// The gravitational acceleration at time t.
+    /// The gravitational acceleration at time t: g·min(t/t_ramp, 1) with a
+    /// ramp time t_ramp > 0, else g (no ramp, or t_ramp ≤ 0).
     pub fn gravity_at(&self, t: f64) -> f64 {
         match self.settings.gravity_ramp {
             Some(t_ramp) if t_ramp > 0.0 => self.settings.gravity * (t / t_ramp).min(1.0),
@@ -427,10 +428,13 @@ impl Simulation {
         self.diagnostics.record_particles(&p.strain, crossings);
     }
 
-    /// A typed [`Error::NonPhysicalParticle`] if a particle's state became
-    /// non-finite or its volume non-positive, [`Error::ParticleLeftGrid`] if
-    /// it left the grid.
-    fn check_particles_are_physical(&self) -> Result<()> {
+    /// A typed [`Error::NonPhysicalParticle`] if a particle's position,
+    /// velocity or stress is non-finite or its volume non-positive (the
+    /// first such particle); else [`Error::ParticleLeftGrid`] for the first
+    /// particle outside the grid. [`Simulation::step`] ends with this check;
+    /// it is public so that a caller who edits the particles between steps
+    /// can run it too.
+    pub fn check_particles_are_physical(&self) -> Result<()> {
         let p = &self.particles;
         let (lo, hi) = self.grid.domain();
         let mut outside = None;

@@ -273,7 +273,8 @@ pub struct TlsOptions {
     pub degenerate: DegenerateCells,
     /// κ(D) above which a cell counts as degenerate.
     pub max_condition: f64,
-    /// Boundary-point assignment.
+    /// Boundary-point assignment of [`reconstruct`], which bins the points
+    /// itself; [`reconstruct_binned`] takes the bins as given and ignores it.
     pub assignment: Assignment,
 }
 
@@ -489,7 +490,8 @@ pub struct TlsScratch {
 /// O(points + cells). Same fits, same degenerate-cell repair, same order:
 /// first every cell is fitted; then the degenerate ones are repaired, after
 /// every regular cell is fitted, so their neighbours' fits exist (TLS paper
-/// §5.3).
+/// §5.3). The bins decide which cell a boundary point belongs to, so
+/// `options.assignment` plays no part here.
 pub fn reconstruct_binned(
     cells: &[(f64, f64)],
     bins: &CellBins,
