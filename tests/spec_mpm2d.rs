@@ -199,6 +199,165 @@ fn mls_shape_functions_reproduce_constants_and_linear_fields_at_every_gauss_poin
     }
 }
 
+/// MLS paper Eqs. (10), (14)–(17) evaluated directly, over all particles:
+/// at each Gauss point x_g the support is exactly the particles with
+/// w(x_g − x_p) = w(r_x) w(r_y) > 0, r = |x_g − x_p|/(s h), and
+/// φ_gp = w_p [1, x_g, y_g] A⁻¹ [1, x_p, y_p]ᵀ with A = Σ_p w_p p pᵀ in
+/// global coordinates. Five cells (odd, more than the four of the reach) so
+/// that the cell binning and the gathering are exercised away from the
+/// corners.
+#[test]
+fn mls_shape_functions_are_eq_14_over_exactly_the_particles_in_the_support() {
+    let weight = |d: f64| {
+        let r = d.abs();
+        if r <= 0.5 {
+            0.75 - r * r
+        } else if r < 1.5 {
+            0.5 * (1.5 - r) * (1.5 - r)
+        } else {
+            0.0
+        }
+    };
+    let cells = 5;
+    // The unit square, and a square of side 100 (h = 20), where a reach
+    // 1.5 s + h or 1.5 + s h instead of 1.5 s h would miss a column of cells.
+    for (length, support, seed) in [(1.0, 1.0, 3), (1.0, 1.6, 4), (100.0, 1.0, 5)] {
+        let h = length / cells as f64;
+        let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, length, cells).unwrap();
+        let mut p = scattered_particles(cells, 3, 0.9, seed);
+        p.x.iter_mut()
+            .chain(p.y.iter_mut())
+            .for_each(|c| *c *= length);
+        let mut mls = MlsShapes::new(support, cells, p.len()).unwrap();
+        let gauss = GaussGrid {
+            abscissae: grid.gauss_abscissae(),
+            cells,
+            cell_size: h,
+        };
+        let (cx, cy) = (cells_of(&grid, &p.x), cells_of(&grid, &p.y));
+        mls.evaluate(&gauss, &p.x, &p.y, &cx, &cy).unwrap();
+        let n = 2 * cells;
+        let mut largest_condition = 0.0f64;
+        for g in 0..n * n {
+            let xg = [grid.gauss_abscissae()[g % n], grid.gauss_abscissae()[g / n]];
+            let w: Vec<f64> = (0..p.len())
+                .map(|k| {
+                    weight((p.x[k] - xg[0]) / (support * h))
+                        * weight((p.y[k] - xg[1]) / (support * h))
+                })
+                .collect();
+            let mut a = nalgebra::Matrix3::zeros();
+            for (k, &wk) in w.iter().enumerate() {
+                let q = nalgebra::Vector3::new(1.0, p.x[k], p.y[k]);
+                a += wk * q * q.transpose();
+            }
+            let a_inv = a.try_inverse().unwrap();
+            // κ₁ of the moment matrix in the local scaled basis
+            // [1, (x − x_g)/(s h), (y − y_g)/(s h)] (docs/conventions.md, "2D MPM").
+            let mut local = nalgebra::Matrix3::zeros();
+            for (k, &wk) in w.iter().enumerate() {
+                let d = [
+                    (p.x[k] - xg[0]) / (support * h),
+                    (p.y[k] - xg[1]) / (support * h),
+                ];
+                let q = nalgebra::Vector3::new(1.0, d[0], d[1]);
+                local += wk * q * q.transpose();
+            }
+            let norm1 = |m: &nalgebra::Matrix3<f64>| m.abs().row_sum().max();
+            let local_inv = local.try_inverse().unwrap();
+            largest_condition = largest_condition.max(norm1(&local) * norm1(&local_inv));
+            let mut expected: Vec<(usize, f64)> = (0..p.len())
+                .filter(|&k| w[k] > 0.0)
+                .map(|k| {
+                    let pg = nalgebra::Vector3::new(1.0, xg[0], xg[1]);
+                    let pp = nalgebra::Vector3::new(1.0, p.x[k], p.y[k]);
+                    (k, w[k] * (pg.transpose() * a_inv * pp)[0])
+                })
+                .collect();
+            let mut computed: Vec<(usize, f64)> = (mls.start[g]..mls.end[g])
+                .map(|e| (mls.particle[e] as usize, mls.phi[e]))
+                .collect();
+            expected.sort_by_key(|e| e.0);
+            computed.sort_by_key(|e| e.0);
+            let ids = |v: &[(usize, f64)]| v.iter().map(|e| e.0).collect::<Vec<_>>();
+            assert_eq!(
+                ids(&computed),
+                ids(&expected),
+                "support of Gauss point {g}, s = {support}"
+            );
+            for ((k, phi), (_, want)) in computed.iter().zip(&expected) {
+                assert!(
+                    (phi - want).abs() <= 1e-10 * (1.0 + want.abs()),
+                    "φ at Gauss point {g}, particle {k}: {phi} against {want}"
+                );
+            }
+        }
+        assert_relative_eq!(
+            mls.largest_condition,
+            largest_condition,
+            max_relative = 1e-9
+        );
+    }
+}
+
+/// The neighbour lists are sized for the average density; a cluster of
+/// particles denser than that grows them. 400 particles spread 2×2 per cell
+/// over 10×10 cells, and 400 more on a 20×20 lattice in the corner
+/// [0.401, 0.427]² of cell (4, 4). The first cell whose gathering reaches
+/// the cluster is (2, 2), where the cluster's cell is the last column and
+/// the last row gathered, and the Gauss point (0.279, 0.279) has all of it
+/// in its support: about 500 candidates against the 4 × 80 the lists start
+/// with, so the count that sizes the lists must include that column. The
+/// shape functions still reproduce linear fields (MLS paper Eq. 14 with
+/// p = [1, x, y]).
+#[test]
+fn mls_neighbour_lists_grow_for_a_cluster_denser_than_the_average() {
+    let cells = 10;
+    let h = 0.1;
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for j in 0..2 * cells {
+        for i in 0..2 * cells {
+            x.push((i as f64 + 0.5) * h / 2.0);
+            y.push((j as f64 + 0.5) * h / 2.0);
+        }
+    }
+    for j in 0..20 {
+        for i in 0..20 {
+            x.push(0.401 + i as f64 * 0.026 / 19.0);
+            y.push(0.401 + j as f64 * 0.026 / 19.0);
+        }
+    }
+    let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, cells).unwrap();
+    let mut mls = MlsShapes::new(1.0, cells, x.len()).unwrap();
+    let gauss = GaussGrid {
+        abscissae: grid.gauss_abscissae(),
+        cells,
+        cell_size: h,
+    };
+    let (cx, cy) = (cells_of(&grid, &x), cells_of(&grid, &y));
+    mls.evaluate(&gauss, &x, &y, &cx, &cy).unwrap();
+    let n = 2 * cells;
+    let mut most = 0;
+    for g in 0..n * n {
+        let xg = [grid.gauss_abscissae()[g % n], grid.gauss_abscissae()[g / n]];
+        let (mut s0, mut sx, mut sy) = (0.0, 0.0, 0.0);
+        most = most.max(mls.end[g] - mls.start[g]);
+        for e in mls.start[g]..mls.end[g] {
+            let k = mls.particle[e] as usize;
+            s0 += mls.phi[e];
+            sx += mls.phi[e] * x[k];
+            sy += mls.phi[e] * y[k];
+        }
+        assert_relative_eq!(s0, 1.0, epsilon = 1e-12);
+        assert_relative_eq!(sx, xg[0], epsilon = 1e-12);
+        assert_relative_eq!(sy, xg[1], epsilon = 1e-12);
+    }
+    assert!(
+        most > 320,
+        "the cluster puts {most} particles in one support"
+    );
+}
+
 #[test]
 fn mls_with_collinear_particles_is_a_singular_system_error() {
     let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 2).unwrap();
