@@ -263,6 +263,30 @@ fn gradient_breaks_are_the_interior_boundaries_of_c0_bases_and_none_of_smooth_sp
     }
 }
 
+/// How often the uniform guess ⌊(x − a)·cells/(b − a)⌋ of a search was
+/// below and above the answer: a test of the search's correction loops
+/// must make both happen.
+#[derive(Default)]
+struct GuessTally {
+    low: usize,
+    high: usize,
+}
+
+impl GuessTally {
+    fn count(&mut self, guess: usize, answer: usize) {
+        self.low += usize::from(guess < answer);
+        self.high += usize::from(guess > answer);
+    }
+
+    fn assert_both_ways(&self) {
+        let (low, high) = (self.low, self.high);
+        assert!(
+            low > 0 && high > 0,
+            "guess too low {low}×, too high {high}×"
+        );
+    }
+}
+
 /// The half-open cell assignment c_e ≤ x < c_{e+1}, the last cell closed
 /// (book Eq. 4.38's cells, thesis §7.2): `Grid::cell_of` against a search of
 /// the cell boundaries, at every boundary and its floating-point
@@ -271,7 +295,7 @@ fn gradient_breaks_are_the_interior_boundaries_of_c0_bases_and_none_of_smooth_sp
 /// some boundaries and one too high at others, so both corrections run.
 #[test]
 fn cell_of_is_the_half_open_cell_even_where_the_uniform_guess_rounds_wrong() {
-    let (mut low, mut high) = (0, 0);
+    let mut tally = GuessTally::default();
     for (a, b) in [(0.1, 0.7), (0.0, 1.0), (-0.3, 2.9), (1.0 / 3.0, 5.0)] {
         for cells in 1..40 {
             let grid = Grid::new(Method::Mpm, a, b, cells).unwrap();
@@ -290,17 +314,12 @@ fn cell_of_is_the_half_open_cell_even_where_the_uniform_guess_rounds_wrong() {
                         .find(|&e| bounds[e] <= x && x < bounds[e + 1])
                         .unwrap_or(cells - 1);
                     assert_eq!(grid.cell_of(x).unwrap(), expected, "x = {x}, {cells} cells");
-                    let guess = (((x - a0) * per_length) as usize).min(cells - 1);
-                    low += usize::from(guess < expected);
-                    high += usize::from(guess > expected);
+                    tally.count((((x - a0) * per_length) as usize).min(cells - 1), expected);
                 }
             }
         }
     }
-    assert!(
-        low > 0 && high > 0,
-        "guess too low {low}×, too high {high}×"
-    );
+    tally.assert_both_ways();
 }
 
 /// Thesis §3.3: a particle moving from x to y crosses |N(y) − N(x)|
@@ -309,7 +328,7 @@ fn cell_of_is_the_half_open_cell_even_where_the_uniform_guess_rounds_wrong() {
 /// at points in between; `breaks_at_or_below_is(n, x)` is N(x) = n.
 #[test]
 fn breaks_at_or_below_counts_the_gradient_breaks_up_to_x() {
-    let (mut low, mut high) = (0, 0);
+    let mut tally = GuessTally::default();
     for method in [Method::Mpm, Method::MpmP2, Method::Bsmpm { degree: 2 }] {
         for (a, b) in [(0.1, 0.7), (-0.3, 2.9), (1.0 / 3.0, 5.0)] {
             for cells in 1..30 {
@@ -334,17 +353,13 @@ fn breaks_at_or_below_counts_the_gradient_breaks_up_to_x() {
                     }
                     if !breaks.is_empty() {
                         let guess = (((x - a0) * per_length) as usize).min(breaks.len());
-                        low += usize::from(guess < expected);
-                        high += usize::from(guess > expected);
+                        tally.count(guess, expected);
                     }
                 }
             }
         }
     }
-    assert!(
-        low > 0 && high > 0,
-        "guess too low {low}×, too high {high}×"
-    );
+    tally.assert_both_ways();
 }
 
 /// Thesis §3.2: particles "initially equally distributed", each at the

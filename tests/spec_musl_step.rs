@@ -24,6 +24,18 @@ fn two_particles(constitutive: Constitutive) -> Simulation {
     two_particles_configured(constitutive, |_, _| {})
 }
 
+/// The table's two particles before any step (traction not set).
+fn table_particles() -> Particles {
+    Particles::new(
+        vec![0.5, 1.25],
+        vec![1.0, 0.5],
+        vec![2.0, 4.0],
+        vec![1.0, -2.0],
+        vec![3.0, -1.0],
+    )
+    .unwrap()
+}
+
 /// The table's two particles after one step, with `configure` applied to
 /// the particles and settings before the step.
 fn two_particles_configured(
@@ -40,14 +52,7 @@ fn two_particles_on(
     configure: impl FnOnce(&mut Particles, &mut Settings),
 ) -> Simulation {
     let grid = Grid::new(Method::Mpm, 0.0, cells as f64, cells).unwrap();
-    let mut p = Particles::new(
-        vec![0.5, 1.25],
-        vec![1.0, 0.5],
-        vec![2.0, 4.0],
-        vec![1.0, -2.0],
-        vec![3.0, -1.0],
-    )
-    .unwrap();
+    let mut p = table_particles();
     p.traction = vec![0.0, 0.5];
     let settings = Settings {
         force_mapping: Mapping::Direct,
@@ -400,14 +405,7 @@ fn thesis_7_2_spline_force_integrates_the_stress_spline_over_half_spans_clipped_
 fn eq_4_10_projection_diagonal_is_the_mass_weighted_square_of_the_basis() {
     use hompm::mpm::mapping::{project_velocity, ConsistentSolver};
     let grid = &Grid::new(Method::Mpm, 0.0, 2.0, 2).unwrap();
-    let p = &Particles::new(
-        vec![0.5, 1.25],
-        vec![1.0, 0.5],
-        vec![2.0, 4.0],
-        vec![1.0, -2.0],
-        vec![3.0, -1.0],
-    )
-    .unwrap();
+    let p = &table_particles();
     let stencils = grid.stencils_at(&p.x).unwrap();
     for mass in [
         MassMatrix::Lumped,

@@ -113,23 +113,29 @@ fn largest_stable_time_step_against_the_cfl_estimate() {
     assert!(p2 < p1 && p2 < b2, "P2 {p2}");
 }
 
+/// Direct mappings, lumped mass, small strain, no gravity: the settings of
+/// the hand-built runs below, with Young's modulus and the Dirichlet DOFs.
+fn direct_lumped_settings(young: f64, dirichlet: Vec<usize>) -> hompm::mpm::musl::Settings {
+    hompm::mpm::musl::Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: hompm::mpm::musl::Constitutive::SmallStrain,
+        young,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet,
+        consistent_acceleration: false,
+    }
+}
+
 /// Bad input is a typed error: a particle outside the grid, dt ≤ 0, NaN data.
 #[test]
 fn bad_runs_are_typed_errors() {
     use hompm::mpm::grid::Grid;
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::{Settings, Simulation};
     use hompm::mpm::particles::Particles;
-    let settings = Settings {
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        constitutive: Constitutive::SmallStrain,
-        young: 1.0,
-        gravity: 0.0,
-        gravity_ramp: None,
-        dirichlet: vec![0],
-        consistent_acceleration: false,
-    };
+    let settings = direct_lumped_settings(1.0, vec![0]);
     let grid = || Grid::new(Method::Mpm, 0.0, 1.0, 4).unwrap();
     let outside = Particles::uniform(0.0, 2.0, 8, 1.0).unwrap();
     assert!(matches!(
@@ -196,7 +202,7 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
     use hompm::error::DivergenceCause;
     use hompm::mpm::grid::Grid;
     use hompm::mpm::monitor::{StabilityMonitor, Warning};
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     use hompm::mpm::particles::Particles;
     let particles = Particles::new(
         vec![0.25, 0.75],
@@ -206,17 +212,7 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
         vec![0.0, 0.0],
     )
     .unwrap();
-    let settings = Settings {
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        constitutive: Constitutive::SmallStrain,
-        young: 100.0,
-        gravity: 0.0,
-        gravity_ramp: None,
-        dirichlet: vec![],
-        consistent_acceleration: false,
-    };
+    let settings = direct_lumped_settings(100.0, vec![]);
     let grid = Grid::new(Method::Mpm, 0.0, 1.0, 1).unwrap();
     let mut sim = Simulation::new(grid, particles, settings).unwrap();
     // c = √(E/ρ) = 5, h = 1: the critical step of P1 is 1.65 h / c = 0.33.
@@ -278,19 +274,9 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
 fn the_monitor_keeps_one_negative_mass_warning_from_its_first_step() {
     use hompm::mpm::grid::Grid;
     use hompm::mpm::monitor::{StabilityMonitor, Warning};
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     use hompm::mpm::particles::Particles;
-    let settings = Settings {
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        constitutive: Constitutive::SmallStrain,
-        young: 1.0,
-        gravity: 0.0,
-        gravity_ramp: None,
-        dirichlet: vec![],
-        consistent_acceleration: false,
-    };
+    let settings = direct_lumped_settings(1.0, vec![]);
     let grid = Grid::new(Method::MpmP2, 0.0, 1.0, 1).unwrap();
     let particles = Particles::uniform(0.0, 1.0, 2, 1.0).unwrap();
     let mut sim = Simulation::new(grid, particles, settings).unwrap();
@@ -323,19 +309,9 @@ fn the_monitor_keeps_one_negative_mass_warning_from_its_first_step() {
 #[test]
 fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside() {
     use hompm::mpm::grid::Grid;
-    use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+    use hompm::mpm::musl::Simulation;
     use hompm::mpm::particles::Particles;
-    let settings = Settings {
-        force_mapping: Mapping::Direct,
-        velocity_mapping: Mapping::Direct,
-        mass: MassMatrix::Lumped,
-        constitutive: Constitutive::SmallStrain,
-        young: 1.0,
-        gravity: 0.0,
-        gravity_ramp: None,
-        dirichlet: vec![],
-        consistent_acceleration: false,
-    };
+    let settings = direct_lumped_settings(1.0, vec![]);
     let grid = Grid::new(Method::Mpm, 0.0, 1.0, 2).unwrap();
     let particles = Particles::uniform(0.0, 1.0, 3, 1.0).unwrap();
     let mut sim = Simulation::new(grid, particles, settings).unwrap();
