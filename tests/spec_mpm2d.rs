@@ -511,6 +511,8 @@ fn one_bilinear_step_by_hand() {
         material().cauchy_stress(&f).unwrap(),
         max_relative = 1e-14
     );
+    // One step taken, at t = Δt.
+    assert_eq!((sim.steps, sim.time), (1, dt));
 }
 
 /// The largest particle speed after 20 steps from a uniform deformation F
