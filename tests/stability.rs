@@ -1,8 +1,12 @@
 //! Stability where methods fail: every failure the seeds describe is a typed
 //! error or a diagnosed result, never a silent NaN.
 
-use hompm::mpm::grid::Method;
+use hompm::error::DivergenceCause;
+use hompm::mpm::grid::{Grid, Method};
 use hompm::mpm::mapping::{Mapping, MassMatrix};
+use hompm::mpm::monitor::{measured_critical_courant, StabilityMonitor, Warning};
+use hompm::mpm::musl::Simulation;
+use hompm::mpm::particles::Particles;
 
 use hompm::studies::critical_courant;
 use hompm::Error;
@@ -129,12 +133,18 @@ fn direct_lumped_settings(young: f64, dirichlet: Vec<usize>) -> hompm::mpm::musl
     }
 }
 
+/// `particles` uniform particles (ρ = 1) on `cells` cells of [0, 1], with
+/// E = 1 and no Dirichlet DOF.
+fn unit_bar(method: Method, cells: usize, particles: usize) -> Simulation {
+    let grid = Grid::new(method, 0.0, 1.0, cells).unwrap();
+    let particles = Particles::uniform(0.0, 1.0, particles, 1.0).unwrap();
+    Simulation::new(grid, particles, direct_lumped_settings(1.0, vec![])).unwrap()
+}
+
 /// Bad input is a typed error: a particle outside the grid, dt ≤ 0, NaN data.
 #[test]
 fn bad_runs_are_typed_errors() {
-    use hompm::mpm::grid::Grid;
-    use hompm::mpm::musl::{Settings, Simulation};
-    use hompm::mpm::particles::Particles;
+    use hompm::mpm::musl::Settings;
     let settings = direct_lumped_settings(1.0, vec![0]);
     let grid = || Grid::new(Method::Mpm, 0.0, 1.0, 4).unwrap();
     let outside = Particles::uniform(0.0, 2.0, 8, 1.0).unwrap();
@@ -173,7 +183,6 @@ fn bad_runs_are_typed_errors() {
 /// acceleration), rounded down to two digits.
 #[test]
 fn the_monitors_critical_courant_numbers_are_the_measured_ones() {
-    use hompm::mpm::monitor::measured_critical_courant;
     for method in [
         Method::Mpm,
         Method::DDMPM,
@@ -199,11 +208,6 @@ fn the_monitors_critical_courant_numbers_are_the_measured_ones() {
 /// stops above it, naming the fastest particle. A strain of ±1 stops it too.
 #[test]
 fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
-    use hompm::error::DivergenceCause;
-    use hompm::mpm::grid::Grid;
-    use hompm::mpm::monitor::{StabilityMonitor, Warning};
-    use hompm::mpm::musl::Simulation;
-    use hompm::mpm::particles::Particles;
     let particles = Particles::new(
         vec![0.25, 0.75],
         vec![0.5, 0.5],
@@ -272,14 +276,7 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
 /// the most negative mass.
 #[test]
 fn the_monitor_keeps_one_negative_mass_warning_from_its_first_step() {
-    use hompm::mpm::grid::Grid;
-    use hompm::mpm::monitor::{StabilityMonitor, Warning};
-    use hompm::mpm::musl::Simulation;
-    use hompm::mpm::particles::Particles;
-    let settings = direct_lumped_settings(1.0, vec![]);
-    let grid = Grid::new(Method::MpmP2, 0.0, 1.0, 1).unwrap();
-    let particles = Particles::uniform(0.0, 1.0, 2, 1.0).unwrap();
-    let mut sim = Simulation::new(grid, particles, settings).unwrap();
+    let mut sim = unit_bar(Method::MpmP2, 1, 2);
     let mut monitor = StabilityMonitor::new(&sim, 1e-3).unwrap();
     monitor.check(&sim).unwrap();
     assert!(monitor.warnings().is_empty(), "no negative mass yet");
@@ -308,13 +305,7 @@ fn the_monitor_keeps_one_negative_mass_warning_from_its_first_step() {
 /// particle exactly on an end of the grid is inside.
 #[test]
 fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside() {
-    use hompm::mpm::grid::Grid;
-    use hompm::mpm::musl::Simulation;
-    use hompm::mpm::particles::Particles;
-    let settings = direct_lumped_settings(1.0, vec![]);
-    let grid = Grid::new(Method::Mpm, 0.0, 1.0, 2).unwrap();
-    let particles = Particles::uniform(0.0, 1.0, 3, 1.0).unwrap();
-    let mut sim = Simulation::new(grid, particles, settings).unwrap();
+    let mut sim = unit_bar(Method::Mpm, 2, 3);
     sim.particles.x = vec![0.0, 0.5, 1.0];
     assert_eq!(
         sim.check_particles_are_physical(),
