@@ -108,6 +108,23 @@ pub enum Error {
         /// Right end of the grid.
         b: f64,
     },
+    /// A deformation gradient F with J = det F ≤ 0 or not finite: a material
+    /// turned inside out, where the neo-Hookean law (MLS paper Eqs. 40–41)
+    /// and V = J V⁰ (Eq. 36) need J > 0. The 2D engine fills in the particle,
+    /// the step and the time; the material alone knows only F.
+    #[error("the run blew up: {}det F = {jacobian:e} ≤ 0 or not finite, the material turned inside out (F = [{:e}, {:e}; {:e}, {:e}])", inverted_where(*.particle, *.step, *.time), .deformation[0], .deformation[1], .deformation[2], .deformation[3])]
+    InvertedDeformation {
+        /// The particle, when the check ran in a time step.
+        particle: Option<usize>,
+        /// Steps taken, including the one that failed, when known.
+        step: Option<usize>,
+        /// Time reached, when known.
+        time: Option<f64>,
+        /// J = det F.
+        jacobian: f64,
+        /// F row by row: [F₁₁, F₁₂, F₂₁, F₂₂].
+        deformation: [f64; 4],
+    },
     /// A TLS cell whose data cannot determine its fit (TLS paper §5.3), when
     /// degenerate cells are errors.
     #[error("singular system: TLS on cell {cell} [{a}, {b}]: {detail}")]
@@ -245,6 +262,27 @@ pub fn finite_named(x: f64, what: impl FnOnce() -> String) -> Result<f64> {
             what: what(),
             value: x,
         })
+    }
+}
+
+/// "particle 3 at step 5 (t = 1e-3): ", as much of it as is known, for
+/// [`Error::InvertedDeformation`].
+fn inverted_where(particle: Option<usize>, step: Option<usize>, time: Option<f64>) -> String {
+    let mut text = String::new();
+    if let Some(k) = particle {
+        text += &format!("particle {k} ");
+    }
+    if let Some(s) = step {
+        text += &format!("at step {s} ");
+    }
+    if let Some(t) = time {
+        text += &format!("(t = {t:e}) ");
+    }
+    if text.is_empty() {
+        text
+    } else {
+        text.pop();
+        text + ": "
     }
 }
 

@@ -49,15 +49,28 @@ fn cauchy_stress_is_piola_times_f_transposed_over_j_and_the_printed_piola_is_its
 }
 
 #[test]
-fn an_inverted_deformation_gradient_is_a_blow_up_error() {
+fn an_inverted_deformation_gradient_is_an_inverted_deformation_error() {
     let m = material();
-    for f in [
-        Matrix2::new(-1.0, 0.0, 0.0, 1.0),
-        Matrix2::zeros(),
-        Matrix2::new(f64::NAN, 0.0, 0.0, 1.0),
+    for (f, j) in [
+        (Matrix2::new(-1.0, 2.0, 0.5, 1.0), -2.0),
+        (Matrix2::zeros(), 0.0),
     ] {
-        assert!(matches!(m.cauchy_stress(&f), Err(Error::BlowUp(_))), "{f}");
+        let e = m.cauchy_stress(&f).unwrap_err();
+        let expected = Error::InvertedDeformation {
+            particle: None,
+            step: None,
+            time: None,
+            jacobian: j,
+            deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
+        };
+        assert_eq!(e, expected, "{f}");
+        assert_eq!(m.first_piola(&f).unwrap_err(), expected);
     }
+    let nan = Matrix2::new(f64::NAN, 0.0, 0.0, 1.0);
+    assert!(matches!(
+        m.cauchy_stress(&nan),
+        Err(Error::InvertedDeformation { jacobian, .. }) if jacobian.is_nan()
+    ));
     assert!(NeoHookean::from_young_poisson(1e7, 0.5).is_err());
     assert!(NeoHookean::from_young_poisson(-1.0, 0.3).is_err());
     // The open ends of E > 0 and −1 < ν: E = 0 and ν = −1 are refused too
@@ -392,7 +405,14 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
 
 #[test]
 fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
-    let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 3).unwrap();
+    // Degree 4 (width 5) takes the loops whose width is known at run time.
+    for degree in [2, 4] {
+        direct_mapping_equals_a_dense_assembly_at_degree(degree);
+    }
+}
+
+fn direct_mapping_equals_a_dense_assembly_at_degree(degree: usize) {
+    let grid = Grid2d::new(Basis2d::BSpline { degree }, 1.0, 3).unwrap();
     let mut p = scattered_particles(3, 2, 0.9, 7);
     let mut rng = SplitMix64::new(11);
     for k in 0..p.len() {
@@ -408,7 +428,7 @@ fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
     };
     let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
     map_direct(&sim.grid, &sim.particles, &mut sim.workspace);
-    let kv = KnotVector::open_uniform(0.0, 1.0, 3, 2).unwrap();
+    let kv = KnotVector::open_uniform(0.0, 1.0, 3, degree).unwrap();
     let tensor = TensorBasis2d::new(kv.clone(), kv);
     let n = tensor.num_basis();
     let (mut m, mut mv, mut f) = (vec![0.0; n], vec![[0.0; 2]; n], vec![[0.0; 2]; n]);
@@ -513,6 +533,118 @@ fn one_bilinear_step_by_hand() {
     );
     // One step taken, at t = Δt.
     assert_eq!((sim.steps, sim.time), (1, dt));
+}
+
+/// The two formulations map different stresses at different points. One
+/// particle with X = (¼, ¼) that arrives moved to x = (¾, ¼) (a restart, say),
+/// F = [[1.25, 0.5], [0, 0.8]] (det F = 1, so V = V⁰ = ½), m = 2, at rest,
+/// and σ = [[3, 1], [1, −4]] set by hand (the mapping only reads it), on the
+/// 2×2 bilinear grid of [`one_bilinear_step_by_hand`].
+/// - Updated Lagrangian (MLS paper Eqs. 22, 25): the basis at x, cell (1, 0),
+///   so the mass sits on nodes 1, 2, 4, 5 (index i + 3j); at node 4,
+///   ∇N(x) = (−1, 1) and f = −V σ ∇N = −½ (−2, −5) = (1, 2.5), a = f/m = (2, 5).
+/// - Total Lagrangian (the reference): the basis at X, cell (0, 0), nodes
+///   0, 1, 3, 4; at node 4, ∇_X N = (1, 1) and f = −V⁰ P ∇_X N with
+///   P = J σ F⁻ᵀ, F⁻ᵀ = [[0.8, 0], [−0.5, 1.25]], σ F⁻ᵀ = [[1.9, 1.25],
+///   [2.8, −5]]: f = −½ (3.15, −2.2) = (−1.575, 1.1), a = (−3.15, 2.2).
+#[test]
+fn the_total_lagrangian_reference_maps_first_piola_stress_at_the_initial_positions() {
+    let mut p = Particles2d::new(vec![[0.25, 0.25]], vec![0.5], 4.0, vec![[0.0, 0.0]]).unwrap();
+    p.x[0] = 0.75;
+    p.deformation[0] = Matrix2::new(1.25, 0.5, 0.0, 0.8);
+    p.stress[0] = Matrix2::new(3.0, 1.0, 1.0, -4.0);
+    for (formulation, nodes, acceleration) in [
+        (Formulation::UpdatedLagrangian, [1, 2, 4, 5], [2.0, 5.0]),
+        (Formulation::TotalLagrangian, [0, 1, 3, 4], [-3.15, 2.2]),
+    ] {
+        let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
+        let settings = Settings2d {
+            formulation,
+            mapping: Mapping2d::Direct,
+            material: material(),
+            mls_support: 1.0,
+        };
+        let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+        sim.step(1e-3).unwrap();
+        let ws = &sim.workspace;
+        for (i, &m) in ws.mass.iter().enumerate() {
+            let expected = if nodes.contains(&i) { 0.5 } else { 0.0 };
+            assert_relative_eq!(m, expected, epsilon = 1e-15);
+        }
+        // After the nodal update (Eq. 27), `force` holds a = f/m.
+        assert_relative_eq!(ws.force[4][0], acceleration[0], max_relative = 1e-14);
+        assert_relative_eq!(ws.force[4][1], acceleration[1], max_relative = 1e-14);
+    }
+}
+
+/// A particle turned inside out is `Error::InvertedDeformation` naming the
+/// particle, the step that failed and the time it reached. Particle 1 at
+/// (⅙, ⅙) of a 3×3 bilinear grid (h = ⅓) falls at v = (0, −10) with F = I
+/// (so σ = 0) and no body force; particle 0 rests in the far corner cell,
+/// which shares no node with it. Then ∇N = (±1.5, ±1.5) at particle 1, the
+/// nodes above it carry v^L_y = −10 and the ones below are walls, so
+/// L = [[0, 0], [0, −30]] (Eq. 34) and F = I + L Δt = diag(1, −2) at
+/// Δt = 0.1 (Eq. 35): J = −2. The total-Lagrangian reference refuses a
+/// singular F that a caller put in the same way, at the mapping.
+#[test]
+fn a_particle_turned_inside_out_is_an_error_naming_it_its_step_and_time() {
+    let falling = Particles2d::new(
+        vec![[5.0 / 6.0, 5.0 / 6.0], [1.0 / 6.0, 1.0 / 6.0]],
+        vec![0.05, 0.05],
+        4.0,
+        vec![[0.0, 0.0], [0.0, -10.0]],
+    )
+    .unwrap();
+    let settings = |formulation| Settings2d {
+        formulation,
+        mapping: Mapping2d::Direct,
+        material: material(),
+        mls_support: 1.0,
+    };
+    let grid = || Grid2d::new(Basis2d::Bilinear, 1.0, 3).unwrap();
+    let mut sim = Simulation2d::new(
+        grid(),
+        falling,
+        settings(Formulation::UpdatedLagrangian),
+        None,
+    )
+    .unwrap();
+    match sim.step(0.1) {
+        Err(Error::InvertedDeformation {
+            particle: Some(1),
+            step: Some(1),
+            time: Some(t),
+            jacobian,
+            deformation,
+        }) => {
+            assert_eq!(t, 0.1);
+            assert_relative_eq!(jacobian, -2.0, max_relative = 1e-12);
+            for (got, want) in deformation.iter().zip([1.0, 0.0, 0.0, -2.0]) {
+                assert_relative_eq!(*got, want, max_relative = 1e-12, epsilon = 1e-12);
+            }
+        }
+        other => panic!("expected an inverted particle 1 at step 1, got {other:?}"),
+    }
+    let mut flat = Particles2d::new(vec![[0.5, 0.5]], vec![0.1], 4.0, vec![[0.0, 0.0]]).unwrap();
+    flat.deformation[0] = Matrix2::new(1.0, 2.0, 0.5, 1.0);
+    let mut sim =
+        Simulation2d::new(grid(), flat, settings(Formulation::TotalLagrangian), None).unwrap();
+    sim.run(0.01, 2).unwrap_err();
+    assert_eq!(
+        (sim.steps, sim.time),
+        (0, 0.0),
+        "a failed step is not taken"
+    );
+    assert_eq!(
+        sim.step(0.25).unwrap_err(),
+        Error::InvertedDeformation {
+            particle: Some(0),
+            step: Some(1),
+            time: Some(0.25),
+            jacobian: 0.0,
+            deformation: [1.0, 2.0, 0.5, 1.0],
+        }
+    );
 }
 
 /// The largest particle speed after 20 steps from a uniform deformation F

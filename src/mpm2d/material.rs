@@ -10,7 +10,8 @@
 //!   Eq. (41)'s σ = P Fᵀ / J holds (docs/conventions.md, "2D MPM");
 //! - Cauchy stress σ = (λ ln J / J) I + (μ / J)(F Fᵀ − I), Eq. (41).
 //!
-//! J ≤ 0 (a particle turned inside out) is `Error::BlowUp`.
+//! J ≤ 0 or not finite (a particle turned inside out) is
+//! `Error::InvertedDeformation`.
 //!
 //! Items: [`NeoHookean`].
 
@@ -40,19 +41,20 @@ impl NeoHookean {
         })
     }
 
-    /// J = det F, refused unless positive and finite.
+    /// J = det F, refused unless positive and finite
+    /// ([`Error::InvertedDeformation`], with no particle or step).
     pub fn jacobian(f: &Matrix2<f64>) -> Result<f64> {
         let j = f.determinant();
         if j.is_finite() && j > 0.0 {
             Ok(j)
         } else {
-            Err(Error::BlowUp(format!(
-                "det F = {j:e} ≤ 0 or not finite: the material turned inside out (F = [{:e}, {:e}; {:e}, {:e}])",
-                f[(0, 0)],
-                f[(0, 1)],
-                f[(1, 0)],
-                f[(1, 1)]
-            )))
+            Err(Error::InvertedDeformation {
+                particle: None,
+                step: None,
+                time: None,
+                jacobian: j,
+                deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
+            })
         }
     }
 

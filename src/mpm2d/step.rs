@@ -215,6 +215,8 @@ impl Simulation2d {
         }
         let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
         let total = self.settings.formulation == Formulation::TotalLagrangian;
+        // The step and time this step reaches, for its errors.
+        let failed = |e| at_step(e, self.steps + 1, self.time + dt);
         if !total {
             evaluate_basis(grid, p, ws, self.steps)?;
         }
@@ -222,7 +224,7 @@ impl Simulation2d {
             b.fill(self.time, &p.x0, &mut ws.body_force);
         }
         match self.settings.mapping {
-            Mapping2d::Direct if total => map_direct_reference(grid, p, ws)?,
+            Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
             Mapping2d::Direct => map_direct(grid, p, ws),
             Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
         }
@@ -236,7 +238,7 @@ impl Simulation2d {
         } else {
             update_deformation(grid, p, ws, material, dt)
         }
-        .map_err(|e| at_step(e, self.steps + 1, self.time + dt))?;
+        .map_err(failed)?;
         self.steps += 1;
         self.time += dt;
         Ok(())
@@ -251,9 +253,22 @@ impl Simulation2d {
     }
 }
 
+/// Puts the step and time into a blow-up error of the step that failed.
 fn at_step(e: Error, step: usize, time: f64) -> Error {
     match e {
         Error::BlowUp(m) => Error::BlowUp(format!("step {step} (t = {time:e}): {m}")),
+        Error::InvertedDeformation {
+            particle,
+            jacobian,
+            deformation,
+            ..
+        } => Error::InvertedDeformation {
+            particle,
+            step: Some(step),
+            time: Some(time),
+            jacobian,
+            deformation,
+        },
         other => other,
     }
 }
@@ -339,7 +354,14 @@ pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
 pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
     clear_nodes(ws);
     if let Some(k) = (0..p.len()).find(|&k| p.deformation[k].try_inverse().is_none()) {
-        return Err(Error::BlowUp(format!("particle {k}: F is not invertible")));
+        let f = p.deformation[k];
+        return Err(Error::InvertedDeformation {
+            particle: Some(k),
+            step: None,
+            time: None,
+            jacobian: f.determinant(),
+            deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
+        });
     }
     let stress = |k: usize| {
         let f_inv_t = p.deformation[k]
@@ -652,7 +674,8 @@ fn scatter_vector(
 
 /// MLS paper Eqs. (34)–(37) and (41): ∇v_p = Σ_i v_i^L ⊗ ∇N_i(x_p),
 /// F_p ← (I + ∇v_p Δt) F_p, V_p = det(F_p) V_p⁰, ρ_p = m_p / V_p, σ_p from
-/// the neo-Hookean law. det F ≤ 0 is `Error::BlowUp`.
+/// the neo-Hookean law. det F ≤ 0 is `Error::InvertedDeformation`, naming
+/// the particle.
 pub fn update_deformation(
     grid: &Grid2d,
     p: &mut Particles2d,
@@ -726,9 +749,22 @@ fn update_deformation_with<const W: usize>(
     Ok(())
 }
 
+/// Names particle k in the error of its deformation update.
 fn particle_error(e: Error, k: usize) -> Error {
     match e {
-        Error::BlowUp(m) => Error::BlowUp(format!("particle {k}: {m}")),
+        Error::InvertedDeformation {
+            step,
+            time,
+            jacobian,
+            deformation,
+            ..
+        } => Error::InvertedDeformation {
+            particle: Some(k),
+            step,
+            time,
+            jacobian,
+            deformation,
+        },
         other => other,
     }
 }
