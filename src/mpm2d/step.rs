@@ -254,23 +254,16 @@ impl Simulation2d {
 }
 
 /// Puts the step and time into a blow-up error of the step that failed.
-fn at_step(e: Error, step: usize, time: f64) -> Error {
-    match e {
-        Error::BlowUp(m) => Error::BlowUp(format!("step {step} (t = {time:e}): {m}")),
-        Error::InvertedDeformation {
-            particle,
-            jacobian,
-            deformation,
-            ..
-        } => Error::InvertedDeformation {
-            particle,
-            step: Some(step),
-            time: Some(time),
-            jacobian,
-            deformation,
-        },
-        other => other,
+fn at_step(mut e: Error, failed_step: usize, failed_time: f64) -> Error {
+    match &mut e {
+        Error::BlowUp(m) => *m = format!("step {failed_step} (t = {failed_time:e}): {m}"),
+        Error::InvertedDeformation { step, time, .. } => {
+            *step = Some(failed_step);
+            *time = Some(failed_time);
+        }
+        _ => {}
     }
+    e
 }
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
@@ -350,18 +343,12 @@ pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
 
 /// [`map_direct`] of the total-Lagrangian reference ([`Formulation`]): the
 /// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
-/// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ.
+/// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ. A particle with det F ≤ 0, which has no such
+/// P, is `Error::InvertedDeformation`.
 pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
     clear_nodes(ws);
-    if let Some(k) = (0..p.len()).find(|&k| p.deformation[k].try_inverse().is_none()) {
-        let f = p.deformation[k];
-        return Err(Error::InvertedDeformation {
-            particle: Some(k),
-            step: None,
-            time: None,
-            jacobian: f.determinant(),
-            deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
-        });
+    for (k, f) in p.deformation.iter().enumerate() {
+        NeoHookean::jacobian(f).map_err(|e| particle_error(e, k))?;
     }
     let stress = |k: usize| {
         let f_inv_t = p.deformation[k]
@@ -750,21 +737,9 @@ fn update_deformation_with<const W: usize>(
 }
 
 /// Names particle k in the error of its deformation update.
-fn particle_error(e: Error, k: usize) -> Error {
-    match e {
-        Error::InvertedDeformation {
-            step,
-            time,
-            jacobian,
-            deformation,
-            ..
-        } => Error::InvertedDeformation {
-            particle: Some(k),
-            step,
-            time,
-            jacobian,
-            deformation,
-        },
-        other => other,
+fn particle_error(mut e: Error, k: usize) -> Error {
+    if let Error::InvertedDeformation { particle, .. } = &mut e {
+        *particle = Some(k);
     }
+    e
 }
