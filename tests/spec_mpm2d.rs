@@ -8,7 +8,7 @@
 use approx::assert_relative_eq;
 use hompm::error::Error;
 use hompm::mpm2d::mls::{GaussGrid, MlsShapes};
-use hompm::mpm2d::step::{map_direct, Formulation, Mapping2d, Settings2d, Simulation2d};
+use hompm::mpm2d::step::{map_direct, map_mls, Formulation, Mapping2d, Settings2d, Simulation2d};
 use hompm::mpm2d::{Basis2d, Grid2d, NeoHookean, Particles2d};
 use hompm::rng::SplitMix64;
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
@@ -17,6 +17,14 @@ use nalgebra::Matrix2;
 
 fn material() -> NeoHookean {
     NeoHookean::from_young_poisson(1e7, 0.3).unwrap()
+}
+
+/// b = (0, −10) per unit mass everywhere.
+struct Gravity;
+impl hompm::mpm2d::BodyForce2d for Gravity {
+    fn fill(&self, _t: f64, _x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
+        out.iter_mut().for_each(|o| *o = [0.0, -10.0]);
+    }
 }
 
 #[test]
@@ -413,13 +421,7 @@ fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
 
 fn direct_mapping_equals_a_dense_assembly_at_degree(degree: usize) {
     let grid = Grid2d::new(Basis2d::BSpline { degree }, 1.0, 3).unwrap();
-    let mut p = scattered_particles(3, 2, 0.9, 7);
-    let mut rng = SplitMix64::new(11);
-    for k in 0..p.len() {
-        p.velocity[k] = [rng.uniform() - 0.5, rng.uniform() - 0.5];
-        let a = rng.uniform();
-        p.stress[k] = Matrix2::new(a, 0.3 * a, 0.3 * a, -a);
-    }
+    let p = randomly_moving(scattered_particles(3, 2, 0.9, 7), 11);
     let settings = Settings2d {
         formulation: Formulation::UpdatedLagrangian,
         mapping: Mapping2d::Direct,
@@ -463,12 +465,6 @@ fn one_bilinear_step_by_hand() {
     let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
     let mut p = Particles2d::new(vec![[0.25, 0.25]], vec![0.5], 4.0, vec![[1.0, -2.0]]).unwrap();
     p.stress[0] = Matrix2::new(3.0, 1.0, 1.0, -4.0);
-    struct Gravity;
-    impl hompm::mpm2d::BodyForce2d for Gravity {
-        fn fill(&self, _t: f64, _x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
-            out.iter_mut().for_each(|o| *o = [0.0, -10.0]);
-        }
-    }
     let settings = Settings2d {
         formulation: Formulation::UpdatedLagrangian,
         mapping: Mapping2d::Direct,
@@ -533,6 +529,202 @@ fn one_bilinear_step_by_hand() {
     );
     // One step taken, at t = Δt.
     assert_eq!((sim.steps, sim.time), (1, dt));
+    // The nodes no particle reaches have no mass, and get a = 0 (Eq. 27)
+    // and v^L = 0 (Eq. 33), not 0/0.
+    for i in [2, 5, 6, 7, 8] {
+        assert_eq!(ws.mass[i], 0.0);
+        assert_eq!(
+            (ws.force[i], ws.velocity[i]),
+            ([0.0; 2], [0.0; 2]),
+            "node {i}"
+        );
+    }
+}
+
+/// Eq. (29) hands the particles exactly the momentum the grid gained:
+/// Σ_p m_p Δv_p = Δt Σ_p m_p Σ_i N_i(x_p) a_i = Δt Σ_i m_i a_i (Eq. 22),
+/// for any basis, since the same N_i(x_p) weigh both sums. Scattered
+/// particles with random velocities and stresses under gravity, one step,
+/// for the bilinear basis and B-splines of degree 2 and 4 (width 5, the
+/// loops whose width is known only at run time).
+#[test]
+fn the_particle_velocity_update_hands_the_particles_the_momentum_the_grid_gained() {
+    for basis in [
+        Basis2d::Bilinear,
+        Basis2d::BSpline { degree: 2 },
+        Basis2d::BSpline { degree: 4 },
+    ] {
+        let p = randomly_moving(scattered_particles(3, 2, 0.9, 5), 17);
+        let before = p.total_momentum();
+        let grid = Grid2d::new(basis, 1.0, 3).unwrap();
+        let settings = Settings2d {
+            formulation: Formulation::UpdatedLagrangian,
+            mapping: Mapping2d::Direct,
+            material: material(),
+            mls_support: 1.0,
+        };
+        let mut sim = Simulation2d::new(grid, p, settings, Some(Box::new(Gravity))).unwrap();
+        let dt = 1e-3;
+        sim.step(dt).unwrap();
+        let after = sim.particles.total_momentum();
+        let ws = &sim.workspace;
+        // Rounding of the momenta themselves, ~1e-16 Σ m |v| each.
+        let speed_scale: f64 = (0..sim.particles.len())
+            .map(|k| {
+                sim.particles.mass[k]
+                    * sim.particles.velocity[k][0].hypot(sim.particles.velocity[k][1])
+            })
+            .sum();
+        for d in 0..2 {
+            let gained: f64 = ws.mass.iter().zip(&ws.force).map(|(m, a)| m * a[d]).sum();
+            assert!(gained.abs() > 1e-3, "{basis:?}: the test needs a force");
+            assert_relative_eq!(
+                after[d] - before[d],
+                dt * gained,
+                epsilon = 1e-13 * speed_scale
+            );
+        }
+    }
+}
+
+/// Eqs. (34)–(35) for any basis: after a step, F_p = (I + Δt L_p) with
+/// L_p = Σ_i v_i^L ⊗ ∇N_i(x_p) at the positions the step started from,
+/// recomputed here with the 2D tensor basis of `spline::tensor` from the
+/// step's own v^L. Random velocities make L full (off-diagonal terms too);
+/// degree 4 (width 5) takes the loops whose width is known only at run time.
+#[test]
+fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() {
+    for degree in [1, 2, 4] {
+        let basis = match degree {
+            1 => Basis2d::Bilinear,
+            d => Basis2d::BSpline { degree: d },
+        };
+        let p = randomly_moving(scattered_particles(3, 2, 0.9, 41), 43);
+        let grid = Grid2d::new(basis, 1.0, 3).unwrap();
+        let settings = Settings2d {
+            formulation: Formulation::UpdatedLagrangian,
+            mapping: Mapping2d::Direct,
+            material: material(),
+            mls_support: 1.0,
+        };
+        let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+        let dt = 1e-3;
+        sim.step(dt).unwrap();
+        let kv = KnotVector::open_uniform(0.0, 1.0, 3, degree).unwrap();
+        let tensor = TensorBasis2d::new(kv.clone(), kv);
+        let v = &sim.workspace.velocity;
+        let mut largest_shear: f64 = 0.0;
+        for k in 0..p.len() {
+            let loc = tensor.local_basis(p.x[k], p.y[k]).unwrap();
+            let mut l = Matrix2::<f64>::zeros();
+            for (&i, g) in loc.indices.iter().zip(&loc.gradients) {
+                for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                    l[(r, c)] += v[i][r] * g[c];
+                }
+            }
+            largest_shear = largest_shear.max(l[(0, 1)].abs().min(l[(1, 0)].abs()));
+            let f = Matrix2::identity() + l * dt;
+            assert_relative_eq!(sim.particles.deformation[k], f, epsilon = 1e-14);
+            assert_relative_eq!(
+                sim.particles.volume[k],
+                f.determinant() * p.volume[k],
+                max_relative = 1e-14
+            );
+        }
+        assert!(
+            largest_shear > 0.1,
+            "degree {degree}: L needs both off-diagonal terms"
+        );
+    }
+}
+
+/// A particle velocity that is not finite ends the step with a blow-up even
+/// where the walls hide it from the grid: on one bilinear cell every node is
+/// a wall node, so v_x is zeroed on the grid, the particle's F stays I and
+/// only the final check sees the NaN.
+#[test]
+fn a_non_finite_particle_velocity_is_a_blow_up_even_behind_the_walls() {
+    let mut p = Particles2d::new(vec![[0.5, 0.5]], vec![1.0], 1.0, vec![[0.0; 2]]).unwrap();
+    p.velocity[0] = [f64::NAN, 0.0];
+    let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 1).unwrap();
+    let settings = Settings2d {
+        formulation: Formulation::UpdatedLagrangian,
+        mapping: Mapping2d::Direct,
+        material: material(),
+        mls_support: 1.0,
+    };
+    let mut sim = Simulation2d::new(grid, p, settings, None).unwrap();
+    assert!(matches!(sim.step(1e-3), Err(Error::BlowUp(_))));
+    assert_eq!(sim.particles.deformation[0], Matrix2::identity());
+}
+
+/// Velocities uniform in [−½, ½]² and symmetric stresses, from `seed`.
+fn randomly_moving(mut p: Particles2d, seed: u64) -> Particles2d {
+    let mut rng = SplitMix64::new(seed);
+    for k in 0..p.len() {
+        p.velocity[k] = [rng.uniform() - 0.5, rng.uniform() - 0.5];
+        let a = rng.uniform();
+        p.stress[k] = Matrix2::new(a, 0.3 * a, 0.3 * a, -a);
+    }
+    p
+}
+
+/// The step records the largest mapping errors of mass and momentum so far:
+/// |Σ_i m_i − Σ_p m_p| / Σ_p m_p and |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|.
+/// The MLS mapping does not conserve either exactly, so each is checked
+/// against the same sums over a mapping done apart, over two steps.
+#[test]
+fn the_step_records_the_largest_mapping_errors_of_mass_and_momentum() {
+    let grid = || Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 4).unwrap();
+    let settings = Settings2d {
+        formulation: Formulation::UpdatedLagrangian,
+        mapping: Mapping2d::Mls,
+        material: material(),
+        mls_support: 1.0,
+    };
+    let mapping_errors = |p: &Particles2d| {
+        let mut apart = Simulation2d::new(grid(), p.clone(), settings, None).unwrap();
+        map_mls(&apart.grid, &apart.particles, &mut apart.workspace).unwrap();
+        let ws = &apart.workspace;
+        let grid_mass: f64 = ws.mass.iter().sum();
+        let grid_momentum = ws
+            .momentum
+            .iter()
+            .fold([0.0; 2], |s, m| [s[0] + m[0], s[1] + m[1]]);
+        let (mass, momentum) = (p.total_mass(), p.total_momentum());
+        let speed_scale: f64 = (0..p.len())
+            .map(|k| p.mass[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
+            .sum();
+        (
+            (grid_mass - mass).abs() / mass,
+            (grid_momentum[0] - momentum[0]).hypot(grid_momentum[1] - momentum[1]) / speed_scale,
+        )
+    };
+    // A density that varies, so MLS's ρ_g is not the constant it reproduces
+    // exactly and the grid mass differs from the particles'.
+    let mut p = randomly_moving(scattered_particles(4, 3, 0.9, 23), 29);
+    for k in 0..p.len() {
+        p.density[k] *= 1.0 + 0.5 * p.x[k] * p.x[k] * p.y[k];
+        p.mass[k] = p.density[k] * p.volume[k];
+    }
+    let first = mapping_errors(&p);
+    let mut sim = Simulation2d::new(grid(), p, settings, None).unwrap();
+    sim.step(1e-4).unwrap();
+    assert!(first.0 > 1e-6 && first.1 > 1e-6, "{first:?}");
+    assert_relative_eq!(sim.conservation.mass, first.0, max_relative = 1e-12);
+    assert_relative_eq!(sim.conservation.momentum, first.1, max_relative = 1e-12);
+    let second = mapping_errors(&sim.particles);
+    sim.step(1e-4).unwrap();
+    assert_relative_eq!(
+        sim.conservation.mass,
+        first.0.max(second.0),
+        max_relative = 1e-12
+    );
+    assert_relative_eq!(
+        sim.conservation.momentum,
+        first.1.max(second.1),
+        max_relative = 1e-12
+    );
 }
 
 /// The two formulations map different stresses at different points. One
