@@ -112,7 +112,7 @@ pub enum Error {
     /// turned inside out, where the neo-Hookean law (MLS paper Eqs. 40–41)
     /// and V = J V⁰ (Eq. 36) need J > 0. The 2D engine fills in the particle,
     /// the step and the time; the material alone knows only F.
-    #[error("the run blew up: {}det F = {jacobian:e} ≤ 0 or not finite, the material turned inside out (F = [{:e}, {:e}; {:e}, {:e}])", inverted_where(*.particle, *.step, *.time), .deformation[0], .deformation[1], .deformation[2], .deformation[3])]
+    #[error("the run blew up: {}det F = {jacobian:e} ≤ 0 or not finite, the material turned inside out (F = [{:e}, {:e}; {:e}, {:e}])", where_in_run(*.particle, *.step, *.time), .deformation[0], .deformation[1], .deformation[2], .deformation[3])]
     InvertedDeformation {
         /// The particle, when the check ran in a time step.
         particle: Option<usize>,
@@ -124,6 +124,20 @@ pub enum Error {
         jacobian: f64,
         /// F row by row: [F₁₁, F₁₂, F₂₁, F₂₂].
         deformation: [f64; 4],
+    },
+    /// A 2D particle whose velocity is not finite at the end of a step
+    /// (MLS paper Eq. 29 produced NaN or ∞). The step fills in its number
+    /// and time.
+    #[error("the run blew up: {}velocity ({:e}, {:e}) is not finite", where_in_run(Some(*.particle), *.step, *.time), .velocity[0], .velocity[1])]
+    NonFiniteVelocity {
+        /// The particle.
+        particle: usize,
+        /// Steps taken, including the one that failed, when known.
+        step: Option<usize>,
+        /// Time reached, when known.
+        time: Option<f64>,
+        /// Its velocity.
+        velocity: [f64; 2],
     },
     /// A TLS cell whose data cannot determine its fit (TLS paper §5.3), when
     /// degenerate cells are errors.
@@ -266,8 +280,8 @@ pub fn finite_named(x: f64, what: impl FnOnce() -> String) -> Result<f64> {
 }
 
 /// "particle 3 at step 5 (t = 1e-3): ", as much of it as is known, for
-/// [`Error::InvertedDeformation`].
-fn inverted_where(particle: Option<usize>, step: Option<usize>, time: Option<f64>) -> String {
+/// [`Error::InvertedDeformation`] and [`Error::NonFiniteVelocity`].
+fn where_in_run(particle: Option<usize>, step: Option<usize>, time: Option<f64>) -> String {
     let mut text = String::new();
     if let Some(k) = particle {
         text += &format!("particle {k} ");

@@ -253,15 +253,13 @@ impl Simulation2d {
     }
 }
 
-/// Puts the step and time into a blow-up error of the step that failed.
+/// Puts the step and time into the blow-up error of the step that failed.
 fn at_step(mut e: Error, failed_step: usize, failed_time: f64) -> Error {
-    match &mut e {
-        Error::BlowUp(m) => *m = format!("step {failed_step} (t = {failed_time:e}): {m}"),
-        Error::InvertedDeformation { step, time, .. } => {
-            *step = Some(failed_step);
-            *time = Some(failed_time);
-        }
-        _ => {}
+    if let Error::InvertedDeformation { step, time, .. }
+    | Error::NonFiniteVelocity { step, time, .. } = &mut e
+    {
+        *step = Some(failed_step);
+        *time = Some(failed_time);
     }
     e
 }
@@ -661,8 +659,9 @@ fn scatter_vector(
 
 /// MLS paper Eqs. (34)–(37) and (41): ∇v_p = Σ_i v_i^L ⊗ ∇N_i(x_p),
 /// F_p ← (I + ∇v_p Δt) F_p, V_p = det(F_p) V_p⁰, ρ_p = m_p / V_p, σ_p from
-/// the neo-Hookean law. det F ≤ 0 is `Error::InvertedDeformation`, naming
-/// the particle.
+/// the neo-Hookean law. det F ≤ 0 is `Error::InvertedDeformation` and a
+/// velocity that is not finite `Error::NonFiniteVelocity`, each naming the
+/// particle.
 pub fn update_deformation(
     grid: &Grid2d,
     p: &mut Particles2d,
@@ -727,10 +726,12 @@ fn update_deformation_with<const W: usize>(
         p.density[k] = p.mass[k] / p.volume[k];
         p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
         if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
-            return Err(Error::BlowUp(format!(
-                "particle {k}: velocity ({:e}, {:e}) is not finite",
-                p.velocity[k][0], p.velocity[k][1]
-            )));
+            return Err(Error::NonFiniteVelocity {
+                particle: k,
+                step: None,
+                time: None,
+                velocity: p.velocity[k],
+            });
         }
     }
     Ok(())
