@@ -19,6 +19,36 @@ fn material() -> NeoHookean {
     NeoHookean::from_young_poisson(1e7, 0.3).unwrap()
 }
 
+/// The settings of the hand-built scenes: [`material`] and an MLS support
+/// of one cell.
+fn settings(formulation: Formulation, mapping: Mapping2d) -> Settings2d {
+    Settings2d {
+        formulation,
+        mapping,
+        material: material(),
+        mls_support: 1.0,
+    }
+}
+
+/// An updated-Lagrangian simulation with the direct mapping of `p` on
+/// 3 × 3 cells of [0, 1]² with `basis`.
+fn direct_on_three_cells(
+    basis: Basis2d,
+    p: Particles2d,
+    body_force: Option<Box<dyn hompm::mpm2d::BodyForce2d>>,
+) -> Simulation2d {
+    let grid = Grid2d::new(basis, 1.0, 3).unwrap();
+    let settings = settings(Formulation::UpdatedLagrangian, Mapping2d::Direct);
+    Simulation2d::new(grid, p, settings, body_force).unwrap()
+}
+
+/// Σ_p m_p |v_p|, the scale of the momenta's rounding.
+fn speed_scale(p: &Particles2d) -> f64 {
+    (0..p.len())
+        .map(|k| p.mass[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
+        .sum()
+}
+
 /// b = (0, −10) per unit mass everywhere.
 struct Gravity;
 impl hompm::mpm2d::BodyForce2d for Gravity {
@@ -420,15 +450,8 @@ fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
 }
 
 fn direct_mapping_equals_a_dense_assembly_at_degree(degree: usize) {
-    let grid = Grid2d::new(Basis2d::BSpline { degree }, 1.0, 3).unwrap();
     let p = randomly_moving(scattered_particles(3, 2, 0.9, 7), 11);
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping: Mapping2d::Direct,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+    let mut sim = direct_on_three_cells(Basis2d::BSpline { degree }, p.clone(), None);
     map_direct(&sim.grid, &sim.particles, &mut sim.workspace);
     let kv = KnotVector::open_uniform(0.0, 1.0, 3, degree).unwrap();
     let tensor = TensorBasis2d::new(kv.clone(), kv);
@@ -465,13 +488,13 @@ fn one_bilinear_step_by_hand() {
     let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
     let mut p = Particles2d::new(vec![[0.25, 0.25]], vec![0.5], 4.0, vec![[1.0, -2.0]]).unwrap();
     p.stress[0] = Matrix2::new(3.0, 1.0, 1.0, -4.0);
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping: Mapping2d::Direct,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let mut sim = Simulation2d::new(grid, p, settings, Some(Box::new(Gravity))).unwrap();
+    let mut sim = Simulation2d::new(
+        grid,
+        p,
+        settings(Formulation::UpdatedLagrangian, Mapping2d::Direct),
+        Some(Box::new(Gravity)),
+    )
+    .unwrap();
     let dt = 0.01;
     sim.step(dt).unwrap();
     // N = ¼ at all four nodes of cell (0, 0); with h = ½ and local
@@ -556,33 +579,17 @@ fn the_particle_velocity_update_hands_the_particles_the_momentum_the_grid_gained
     ] {
         let p = randomly_moving(scattered_particles(3, 2, 0.9, 5), 17);
         let before = p.total_momentum();
-        let grid = Grid2d::new(basis, 1.0, 3).unwrap();
-        let settings = Settings2d {
-            formulation: Formulation::UpdatedLagrangian,
-            mapping: Mapping2d::Direct,
-            material: material(),
-            mls_support: 1.0,
-        };
-        let mut sim = Simulation2d::new(grid, p, settings, Some(Box::new(Gravity))).unwrap();
+        let mut sim = direct_on_three_cells(basis, p, Some(Box::new(Gravity)));
         let dt = 1e-3;
         sim.step(dt).unwrap();
         let after = sim.particles.total_momentum();
         let ws = &sim.workspace;
         // Rounding of the momenta themselves, ~1e-16 Σ m |v| each.
-        let speed_scale: f64 = (0..sim.particles.len())
-            .map(|k| {
-                sim.particles.mass[k]
-                    * sim.particles.velocity[k][0].hypot(sim.particles.velocity[k][1])
-            })
-            .sum();
+        let rounding = 1e-13 * speed_scale(&sim.particles);
         for d in 0..2 {
             let gained: f64 = ws.mass.iter().zip(&ws.force).map(|(m, a)| m * a[d]).sum();
             assert!(gained.abs() > 1e-3, "{basis:?}: the test needs a force");
-            assert_relative_eq!(
-                after[d] - before[d],
-                dt * gained,
-                epsilon = 1e-13 * speed_scale
-            );
+            assert_relative_eq!(after[d] - before[d], dt * gained, epsilon = rounding);
         }
     }
 }
@@ -600,14 +607,7 @@ fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() 
             d => Basis2d::BSpline { degree: d },
         };
         let p = randomly_moving(scattered_particles(3, 2, 0.9, 41), 43);
-        let grid = Grid2d::new(basis, 1.0, 3).unwrap();
-        let settings = Settings2d {
-            formulation: Formulation::UpdatedLagrangian,
-            mapping: Mapping2d::Direct,
-            material: material(),
-            mls_support: 1.0,
-        };
-        let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+        let mut sim = direct_on_three_cells(basis, p.clone(), None);
         let dt = 1e-3;
         sim.step(dt).unwrap();
         let kv = KnotVector::open_uniform(0.0, 1.0, 3, degree).unwrap();
@@ -647,13 +647,13 @@ fn a_non_finite_particle_velocity_is_a_blow_up_even_behind_the_walls() {
     let mut p = Particles2d::new(vec![[0.5, 0.5]], vec![1.0], 1.0, vec![[0.0; 2]]).unwrap();
     p.velocity[0] = [f64::NAN, 0.0];
     let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 1).unwrap();
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping: Mapping2d::Direct,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let mut sim = Simulation2d::new(grid, p, settings, None).unwrap();
+    let mut sim = Simulation2d::new(
+        grid,
+        p,
+        settings(Formulation::UpdatedLagrangian, Mapping2d::Direct),
+        None,
+    )
+    .unwrap();
     sim.step(1e-3).unwrap_err();
     assert_eq!(sim.particles.deformation[0], Matrix2::identity());
     // A failed step is not taken; the next one fails the same way, as step 1.
@@ -686,12 +686,7 @@ fn randomly_moving(mut p: Particles2d, seed: u64) -> Particles2d {
 #[test]
 fn the_step_records_the_largest_mapping_errors_of_mass_and_momentum() {
     let grid = || Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 4).unwrap();
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping: Mapping2d::Mls,
-        material: material(),
-        mls_support: 1.0,
-    };
+    let settings = settings(Formulation::UpdatedLagrangian, Mapping2d::Mls);
     let mapping_errors = |p: &Particles2d| {
         let mut apart = Simulation2d::new(grid(), p.clone(), settings, None).unwrap();
         map_mls(&apart.grid, &apart.particles, &mut apart.workspace).unwrap();
@@ -702,12 +697,9 @@ fn the_step_records_the_largest_mapping_errors_of_mass_and_momentum() {
             .iter()
             .fold([0.0; 2], |s, m| [s[0] + m[0], s[1] + m[1]]);
         let (mass, momentum) = (p.total_mass(), p.total_momentum());
-        let speed_scale: f64 = (0..p.len())
-            .map(|k| p.mass[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
-            .sum();
         (
             (grid_mass - mass).abs() / mass,
-            (grid_momentum[0] - momentum[0]).hypot(grid_momentum[1] - momentum[1]) / speed_scale,
+            (grid_momentum[0] - momentum[0]).hypot(grid_momentum[1] - momentum[1]) / speed_scale(p),
         )
     };
     // A density that varies, so MLS's ρ_g is not the constant it reproduces
@@ -760,13 +752,13 @@ fn the_total_lagrangian_reference_maps_first_piola_stress_at_the_initial_positio
         (Formulation::TotalLagrangian, [0, 1, 3, 4], [-3.15, 2.2]),
     ] {
         let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
-        let settings = Settings2d {
-            formulation,
-            mapping: Mapping2d::Direct,
-            material: material(),
-            mls_support: 1.0,
-        };
-        let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+        let mut sim = Simulation2d::new(
+            grid,
+            p.clone(),
+            settings(formulation, Mapping2d::Direct),
+            None,
+        )
+        .unwrap();
         sim.step(1e-3).unwrap();
         let ws = &sim.workspace;
         for (i, &m) in ws.mass.iter().enumerate() {
@@ -797,20 +789,7 @@ fn a_particle_turned_inside_out_is_an_error_naming_it_its_step_and_time() {
         vec![[0.0, 0.0], [0.0, -10.0]],
     )
     .unwrap();
-    let settings = |formulation| Settings2d {
-        formulation,
-        mapping: Mapping2d::Direct,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let grid = || Grid2d::new(Basis2d::Bilinear, 1.0, 3).unwrap();
-    let mut sim = Simulation2d::new(
-        grid(),
-        falling,
-        settings(Formulation::UpdatedLagrangian),
-        None,
-    )
-    .unwrap();
+    let mut sim = direct_on_three_cells(Basis2d::Bilinear, falling, None);
     match sim.step(0.1) {
         Err(Error::InvertedDeformation {
             particle: Some(1),
@@ -829,8 +808,13 @@ fn a_particle_turned_inside_out_is_an_error_naming_it_its_step_and_time() {
     }
     let mut flat = Particles2d::new(vec![[0.5, 0.5]], vec![0.1], 4.0, vec![[0.0, 0.0]]).unwrap();
     flat.deformation[0] = Matrix2::new(1.0, 2.0, 0.5, 1.0);
-    let mut sim =
-        Simulation2d::new(grid(), flat, settings(Formulation::TotalLagrangian), None).unwrap();
+    let mut sim = Simulation2d::new(
+        Grid2d::new(Basis2d::Bilinear, 1.0, 3).unwrap(),
+        flat,
+        settings(Formulation::TotalLagrangian, Mapping2d::Direct),
+        None,
+    )
+    .unwrap();
     sim.run(0.01, 2).unwrap_err();
     assert_eq!(
         (sim.steps, sim.time),
@@ -862,13 +846,13 @@ fn speed_after_uniform_state(basis: Basis2d, mapping: Mapping2d) -> f64 {
         p.volume[k] *= f.determinant();
         p.density[k] = p.mass[k] / p.volume[k];
     }
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let mut sim = Simulation2d::new(grid, p, settings, None).unwrap();
+    let mut sim = Simulation2d::new(
+        grid,
+        p,
+        settings(Formulation::UpdatedLagrangian, mapping),
+        None,
+    )
+    .unwrap();
     sim.run(1e-5, 20).unwrap();
     sim.particles
         .velocity
@@ -951,13 +935,13 @@ fn the_mls_mapping_integrates_linear_fields_exactly() {
         p.stress[k] = sigma(p.x[k], p.y[k]);
     }
     let rho = p.density[0];
-    let settings = Settings2d {
-        formulation: Formulation::UpdatedLagrangian,
-        mapping: Mapping2d::Mls,
-        material: material(),
-        mls_support: 1.0,
-    };
-    let mut sim = Simulation2d::new(grid, p.clone(), settings, None).unwrap();
+    let mut sim = Simulation2d::new(
+        grid,
+        p.clone(),
+        settings(Formulation::UpdatedLagrangian, Mapping2d::Mls),
+        None,
+    )
+    .unwrap();
     hompm::mpm2d::step::map_mls(&sim.grid, &sim.particles, &mut sim.workspace).unwrap();
     let kv = KnotVector::open_uniform(0.0, 1.0, cells, 2).unwrap();
     let tensor = TensorBasis2d::new(kv.clone(), kv);
