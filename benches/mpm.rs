@@ -72,7 +72,7 @@ fn discretisation(case: &str) -> Discretisation {
     let mass = match parts[2] {
         "lumped" => MassMatrix::Lumped,
         "consistent" => MassMatrix::Consistent(ConsistentSolver::Cholesky),
-        _ => MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
+        _ => MassMatrix::Consistent(ConsistentSolver::richardson(1e-9)),
     };
     let cells = parts[3].parse().expect("cell count");
     Discretisation::new(method, mapping, mass, cells, 8)

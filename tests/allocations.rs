@@ -93,7 +93,7 @@ fn direct_mapping_with_lumped_mass_allocates_nothing_after_the_first_step() {
 #[test]
 fn reconstruction_allocations_do_not_grow_with_the_number_of_steps() {
     let cholesky = MassMatrix::Consistent(ConsistentSolver::Cholesky);
-    let richardson = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    let richardson = MassMatrix::Consistent(ConsistentSolver::richardson(1e-9));
     for (mapping, mass) in [
         (Mapping::Tls, MassMatrix::Lumped),
         (Mapping::Tls, cholesky),

@@ -101,9 +101,7 @@ impl From<MassArg> for MassMatrix {
         match m {
             MassArg::Lumped => MassMatrix::Lumped,
             MassArg::Consistent => MassMatrix::Consistent(ConsistentSolver::Cholesky),
-            MassArg::Richardson => {
-                MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 })
-            }
+            MassArg::Richardson => MassMatrix::Consistent(ConsistentSolver::richardson(1e-9)),
         }
     }
 }

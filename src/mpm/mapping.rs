@@ -41,7 +41,7 @@ use crate::reconstruct::taylor::{
     reconstruct_binned, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
 };
 use crate::solve::direct::cholesky_solve;
-use crate::solve::richardson::richardson;
+use crate::solve::richardson::{richardson_with, ResidualNorm};
 use crate::sparse::{BandAssembly, SparseMatrix};
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
@@ -71,11 +71,25 @@ pub enum Mapping {
 pub enum ConsistentSolver {
     /// Sparse Cholesky (faer).
     Cholesky,
-    /// Thesis §7.2: Richardson from P/M^L, stopped at ‖P − M^C v‖/‖P‖ ≤ tol.
+    /// Thesis §7.2: Richardson from P/M^L, stopped at ‖P − M^C v‖/‖P‖ ≤ tol
+    /// (or, with [`ResidualNorm::Solution`], at ‖P − M^C v‖/‖v‖ < tol).
     Richardson {
         /// ε.
         tolerance: f64,
+        /// What the residual is divided by.
+        residual: ResidualNorm,
     },
+}
+
+impl ConsistentSolver {
+    /// The thesis' Richardson iteration with hompm's stopping rule,
+    /// ‖P − M^C v‖/‖P‖ ≤ `tolerance` (thesis §7.2).
+    pub fn richardson(tolerance: f64) -> Self {
+        ConsistentSolver::Richardson {
+            tolerance,
+            residual: ResidualNorm::Rhs,
+        }
+    }
 }
 
 /// Which mass matrix the velocity projection uses.
@@ -153,6 +167,12 @@ pub struct MappingWorkspace {
     pub diagonal: Vec<f64>,
     /// Nodal velocities v solved by the projection.
     pub velocity: Vec<f64>,
+    /// Iterations of the last consistent solve (0 for a lumped mass or a
+    /// Cholesky solve).
+    pub solver_iterations: usize,
+    /// The relative residual at which the last iterative solve stopped, by
+    /// its own rule (0 for a lumped mass or a Cholesky solve).
+    pub solver_residual: f64,
     band: BandAssembly,
     active: Vec<usize>,
     rhs: Vec<f64>,
@@ -179,6 +199,8 @@ impl MappingWorkspace {
             lumped: vec![0.0; n],
             diagonal: vec![0.0; n],
             velocity: vec![0.0; n],
+            solver_iterations: 0,
+            solver_residual: 0.0,
             band: BandAssembly::default(),
             spare_splines: [None, None],
             active: Vec::with_capacity(n),
@@ -737,6 +759,7 @@ pub fn solve_projection(
     ws.velocity.clear();
     ws.velocity.resize(n, 0.0);
     let mut iterations = 0;
+    ws.solver_residual = 0.0;
     match (mass, consistent) {
         (MassMatrix::Consistent(solver), Some(full)) => {
             let sub = full.submatrix(&ws.active, &ws.active);
@@ -744,10 +767,14 @@ pub fn solve_projection(
             ws.rhs.extend(ws.active.iter().map(|&i| ws.momentum[i]));
             let x = match solver {
                 ConsistentSolver::Cholesky => cholesky_solve(&sub, &ws.rhs)?,
-                ConsistentSolver::Richardson { tolerance } => {
+                ConsistentSolver::Richardson {
+                    tolerance,
+                    residual,
+                } => {
                     let ml = sub.row_sums();
-                    let r = richardson(&sub, &ml, &ws.rhs, tolerance, 100_000)?;
+                    let r = richardson_with(&sub, &ml, &ws.rhs, tolerance, residual, 100_000)?;
                     iterations = r.iterations;
+                    ws.solver_residual = r.residuals.last().copied().unwrap_or(0.0);
                     r.solution
                 }
             };
@@ -761,6 +788,7 @@ pub fn solve_projection(
             }
         }
     }
+    ws.solver_iterations = iterations;
     Ok(iterations)
 }
 

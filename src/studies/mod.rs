@@ -239,7 +239,7 @@ pub struct Variant {
 /// The variants compared in the work-precision chart.
 pub fn work_precision_variants() -> Vec<Variant> {
     let chol = MassMatrix::Consistent(ConsistentSolver::Cholesky);
-    let rich = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    let rich = MassMatrix::Consistent(ConsistentSolver::richardson(1e-9));
     vec![
         Variant {
             label: "MPM",
@@ -336,7 +336,7 @@ pub fn work_precision(resolutions: &[usize]) -> Result<Vec<WorkPoint>> {
 /// a lumped mass, and quadratic B-splines with each reconstruction.
 pub fn speed_variants() -> Vec<Variant> {
     let chol = MassMatrix::Consistent(ConsistentSolver::Cholesky);
-    let rich = MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 });
+    let rich = MassMatrix::Consistent(ConsistentSolver::richardson(1e-9));
     let bs2 = Method::Bsmpm { degree: 2 };
     let variant = |label, method, mapping, mass| Variant {
         label,

@@ -43,7 +43,7 @@ impl ThesisVariant {
             ThesisVariant::SplineBased => (
                 Method::Bsmpm { degree: 2 },
                 Mapping::CubicSpline,
-                MassMatrix::Consistent(ConsistentSolver::Richardson { tolerance: 1e-9 }),
+                MassMatrix::Consistent(ConsistentSolver::richardson(1e-9)),
             ),
         };
         Discretisation::new(method, mapping, mass, cells, ppc)

@@ -130,17 +130,13 @@ fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
             ThesisVariant::SplineBased,
             64,
             4,
-            Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
-                tolerance: 1e-13,
-            })),
+            Some(MassMatrix::Consistent(ConsistentSolver::richardson(1e-13))),
         )?;
         let loose = bar_rms_with(
             ThesisVariant::SplineBased,
             64,
             4,
-            Some(MassMatrix::Consistent(ConsistentSolver::Richardson {
-                tolerance: 1e-6,
-            })),
+            Some(MassMatrix::Consistent(ConsistentSolver::richardson(1e-6))),
         )?;
         let lumped = bar_rms_with(ThesisVariant::SplineBased, 64, 4, Some(MassMatrix::Lumped))?;
         notes.push(format!(
