@@ -26,7 +26,15 @@
 //! (tests/allocations.rs). The monitors of a run are recorded in one place,
 //! [`RunDiagnostics`].
 //!
-//! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`].
+//! [`Simulation::step_observed`] calls a [`StepObserver`] after each
+//! numbered function with the simulation as that function left it
+//! ([`StepPoint`] names the point): `hompm trace` records the quantities of
+//! each equation from the step that runs, never from a copy of it, and
+//! tests plant defects through it. [`Simulation::step`] passes
+//! [`NoObserver`], whose empty calls the compiler removes.
+//!
+//! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`],
+//! [`StepPoint`], [`StepObserver`], [`NoObserver`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
@@ -36,6 +44,58 @@ use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
+
+/// The points of a step after which a [`StepObserver`] is called, in the
+/// order a step reaches them; each names the equations whose quantities
+/// are then final.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepPoint {
+    /// Step 1: m_i (book Eq. 4.5) and the external loads (thesis §3.2)
+    /// in `workspace().mass`, `gravity_force`, `traction_force`.
+    MassAndLoads,
+    /// Step 1: f_int (book Eq. 4.6) in `workspace().internal_force`.
+    InternalForce,
+    /// Step 2: a_i (book Eq. 4.8) before the boundary conditions, in
+    /// `workspace().acceleration`.
+    Acceleration,
+    /// Step 2: a_i = 0 on the Dirichlet DOFs.
+    AccelerationConditions,
+    /// Step 3: v_p (book Eq. 4.9) in `particles.v`.
+    ParticleVelocity,
+    /// Step 4: the projection's right-hand side p_i and v_i (book Eq. 4.10)
+    /// before the boundary conditions, in `workspace().mapping`.
+    NodalVelocity,
+    /// Step 4: v_i = 0 on the Dirichlet DOFs.
+    NodalVelocityConditions,
+    /// Steps 5–6: u_p, x_p and Δε_p (book Eqs. 4.11–4.14).
+    Positions,
+    /// Step 7: σ_p (book Eq. 4.15 or 4.16).
+    Stress,
+    /// Step 8: V_p and ρ_p (book Eqs. 4.17–4.18).
+    VolumeAndDensity,
+}
+
+/// Called by [`Simulation::step_observed`] after each numbered function of
+/// a step, with the simulation as that function left it. An observer that
+/// only reads leaves the run bit-identical to [`Simulation::step`]; one
+/// that writes plants a defect (the tests of `hompm check` do).
+pub trait StepObserver {
+    /// The step has just passed `point`; `sim.diagnostics.steps` is the
+    /// number of steps completed before this one.
+    fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> Result<()>;
+}
+
+/// The observer that does nothing ([`Simulation::step`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoObserver;
+
+impl StepObserver for NoObserver {
+    #[inline(always)]
+    fn observe(&mut self, _: StepPoint, _: &mut Simulation) -> Result<()> {
+        Ok(())
+    }
+}
 
 /// The constitutive update of step 7.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -203,18 +263,42 @@ impl Simulation {
         &self.workspace
     }
 
+    /// The buffers of the step, writable: for an observer that plants a
+    /// defect between two numbered functions.
+    pub fn workspace_mut(&mut self) -> &mut StepWorkspace {
+        &mut self.workspace
+    }
+
     /// One MUSL step of size dt (module docs, steps 1–8).
     pub fn step(&mut self, dt: f64) -> Result<()> {
+        self.step_observed(dt, &mut NoObserver)
+    }
+
+    /// One MUSL step of size dt that calls `observer` after each numbered
+    /// function ([`StepPoint`]).
+    pub fn step_observed<O: StepObserver>(&mut self, dt: f64, observer: &mut O) -> Result<()> {
         check_time_step(dt)?;
         self.evaluate_basis_at_particles()?;
         self.map_mass_and_loads();
+        observer.observe(StepPoint::MassAndLoads, self)?;
         self.map_internal_force()?;
+        observer.observe(StepPoint::InternalForce, self)?;
         self.nodal_acceleration()?;
+        observer.observe(StepPoint::Acceleration, self)?;
+        self.apply_acceleration_conditions();
+        observer.observe(StepPoint::AccelerationConditions, self)?;
         self.update_particle_velocities(dt);
+        observer.observe(StepPoint::ParticleVelocity, self)?;
         self.project_nodal_velocities()?;
+        observer.observe(StepPoint::NodalVelocity, self)?;
+        self.apply_velocity_conditions();
+        observer.observe(StepPoint::NodalVelocityConditions, self)?;
         self.update_particle_positions(dt);
+        observer.observe(StepPoint::Positions, self)?;
         self.update_stresses();
+        observer.observe(StepPoint::Stress, self)?;
         self.update_volumes_and_densities();
+        observer.observe(StepPoint::VolumeAndDensity, self)?;
         self.record_particle_monitors();
         self.time += dt;
         self.diagnostics.steps += 1;
@@ -291,7 +375,7 @@ impl Simulation {
     }
 
     /// Step 2, book Eq. (4.8): a_i = (f_trac + f_grav − f_int)_i / m_i on DOFs
-    /// with mass (a_i = 0 elsewhere and on Dirichlet DOFs). With
+    /// with mass (a_i = 0 elsewhere). With
     /// `consistent_acceleration` the material-point consistent mass replaces
     /// m_i (book Eq. 4.1). Negative lumped masses (P2, thesis §5.2) are
     /// recorded.
@@ -309,10 +393,14 @@ impl Simulation {
         if self.settings.consistent_acceleration {
             self.consistent_nodal_acceleration()?;
         }
+        Ok(())
+    }
+
+    /// Step 2's boundary conditions: a_i = 0 on the Dirichlet DOFs.
+    fn apply_acceleration_conditions(&mut self) {
         for &i in &self.settings.dirichlet {
             self.workspace.acceleration[i] = 0.0;
         }
-        Ok(())
     }
 
     /// Step 2 with the consistent mass M^C = Σ_p m_p φ φᵀ (sparse Cholesky on
@@ -345,8 +433,8 @@ impl Simulation {
 
     /// Step 4, book Eq. (4.10) (or Eqs. 4.39–4.44 with TLS, thesis §7.2
     /// with splines): the nodal velocity from M v = p with the updated
-    /// particle velocities; then v_i = 0 on Dirichlet DOFs. Records the
-    /// projection's conservation errors and velocity extremes.
+    /// particle velocities. Records the projection's conservation errors
+    /// and velocity extremes.
     fn project_nodal_velocities(&mut self) -> Result<()> {
         let p = &self.particles;
         let total_mass = p.total_mass();
@@ -360,13 +448,21 @@ impl Simulation {
             self.settings.mass,
             &mut ws.mapping,
         )?;
-        let v = &mut ws.mapping.velocity;
-        self.diagnostics
-            .record_projection(&proj, v, &p.v, total_mass, total_momentum);
-        for &i in &self.settings.dirichlet {
-            v[i] = 0.0;
-        }
+        self.diagnostics.record_projection(
+            &proj,
+            &ws.mapping.velocity,
+            &p.v,
+            total_mass,
+            total_momentum,
+        );
         Ok(())
+    }
+
+    /// Step 4's boundary conditions: v_i = 0 on the Dirichlet DOFs.
+    fn apply_velocity_conditions(&mut self) {
+        for &i in &self.settings.dirichlet {
+            self.workspace.mapping.velocity[i] = 0.0;
+        }
     }
 
     /// Steps 5–6, book Eqs. (4.11)–(4.14): Δu_i = Δt v_i; u_p and x_p grow by
