@@ -197,6 +197,17 @@ pub enum Error {
     /// Command-line arguments that do not parse (exit code 2).
     #[error("{0}")]
     Usage(String),
+    /// Another code's output that `hompm check` cannot use: an empty or
+    /// unparsable file, a missing, unknown or duplicated column, a
+    /// non-finite value, a particle that matches none or two of hompm's, a
+    /// trace of other settings, a file over the memory limit (exit code 2).
+    #[error("input: {0}")]
+    Input(String),
+    /// `hompm check` compared another code's output with hompm's and
+    /// found a difference beyond the tolerance (exit code 1); the report
+    /// is printed before it.
+    #[error("{0}")]
+    Differs(String),
     /// A table id that is not registered.
     #[error("unknown table id '{0}' (see `hompm table --list`)")]
     UnknownTable(String),

@@ -26,7 +26,8 @@
 //! | 10 | [`studies`] | every run behind a table or a chart |
 //! | 11 | [`tables`] | the registry of published tables: registrations that call studies |
 //! | 12 | [`report`] | renders tables and studies: report.md/json, reproduction.md, charts |
-//! | 13 | [`cli`] | the command line as a function, `cli::run(args)`; the binary prints what it returns |
+//! | 13 | [`oracle`] | another code checks itself against hompm: exact fields, traces of each equation, `check` with a verdict |
+//! | 14 | [`cli`] | the command line as a function, `cli::run(args)`; the binary prints what it returns |
 //!
 
 pub mod basis;
@@ -37,6 +38,7 @@ pub mod lagrange;
 pub mod mass;
 pub mod mpm;
 pub mod mpm2d;
+pub mod oracle;
 pub mod quadrature;
 pub mod reconstruct;
 pub mod report;

@@ -22,6 +22,7 @@ const LAYERS: &[&[&str]] = &[
     &["studies"],
     &["tables"],
     &["report"],
+    &["oracle"],
     &["cli"],
 ];
 

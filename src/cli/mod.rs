@@ -18,16 +18,19 @@
 //!
 //! Items: [`run`], [`Output`], [`one_line`], [`exit_code`], [`Cli`], and one
 //! module per command: `basis`, `mass`, `reconstruct`, `scene` (`hompm
-//! run`), `table`, `reproduce`.
+//! run`), `oracle` (`exact`, `trace`, `check`), `table`, `reproduce`;
+//! `setup_args` holds the options `run`, `trace` and `check` share.
 
 mod args;
 mod basis;
 mod json;
 pub mod limits;
 mod mass;
+mod oracle;
 mod reconstruct;
 mod reproduce;
 mod scene;
+mod setup_args;
 mod table;
 
 pub use args::{MappingArg, MassArg, MethodArg, ReconstructionArg, SceneArg, SolverArg};
@@ -91,6 +94,16 @@ enum Command {
     /// Run a 1D MPM scene and print the final particle state and diagnostics (MUSL,
     /// book §4.2.2), watched by the stability monitor (mpm::monitor).
     Run(scene::RunArgs),
+    /// The exact or manufactured fields of a scene at points and a time (thesis
+    /// Eqs. 4.1-4.2, MLS paper Eqs. 38-42), for another code to compare with.
+    Exact(oracle::ExactArgs),
+    /// Run a 1D scene and print the quantities of each numbered equation of the
+    /// step (book Eqs. 4.5-4.18) at the traced steps (docs/oracle.md).
+    Trace(oracle::TraceArgs),
+    /// Check another code's particles (or trace) against hompm's run of the same
+    /// setup: differences per field, errors against the exact solution, the
+    /// first equation that differs, a verdict. Exit 0 agree, 1 differ, 2 bad input.
+    Check(oracle::CheckArgs),
     /// Published and computed values of one table, with deviation and status.
     Table(table::TableArgs),
     /// Run every registered table and the studies; write report.md, report.json,
@@ -121,6 +134,9 @@ where
         Command::Mass(a) => mass::mass(a, &limits),
         Command::Reconstruct(a) => reconstruct::reconstruct(a, &limits),
         Command::Run(a) => scene::run_scene(a, &limits),
+        Command::Exact(a) => oracle::exact(a, &limits),
+        Command::Trace(a) => oracle::trace(a, &limits),
+        Command::Check(a) => oracle::check(a, &limits),
         Command::Table(a) => table::table(a),
         Command::Reproduce(a) => reproduce::reproduce(a),
     }
@@ -135,7 +151,7 @@ fn clap_outcome(e: clap::Error) -> Result<Output> {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => Ok(Output::text(e.to_string())),
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand => {
             Err(Error::Usage(
-                "a command is required: basis, mass, reconstruct, run, table or reproduce (see hompm --help)"
+                "a command is required: basis, mass, reconstruct, run, exact, trace, check, table or reproduce (see hompm --help)"
                     .into(),
             ))
         }
@@ -170,7 +186,7 @@ pub fn one_line(s: &str) -> String {
 /// for everything else.
 pub fn exit_code(e: &Error) -> u8 {
     match e {
-        Error::Usage(_) => 2,
+        Error::Usage(_) | Error::Input(_) => 2,
         _ => 1,
     }
 }

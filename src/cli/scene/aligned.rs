@@ -9,12 +9,14 @@
 //!
 //! Items: [`run_aligned`].
 
-use super::super::args::{name, MethodArg};
-use super::super::limits::Limits;
+use super::super::args::name;
 use super::super::{json, Output};
 use super::RunArgs;
-use crate::error::{Error, Result};
-use crate::scenes::aligned_vibration::{parameters, AlignedMethod, AlignedVibration};
+use crate::error::Result;
+use crate::oracle::exact::formulas_2d;
+use crate::oracle::run::run_2d;
+use crate::oracle::setup::{Setup, Setup2d};
+use crate::scenes::aligned_vibration::{AlignedMethod, AlignedVibration};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -33,6 +35,10 @@ struct Particles2dJson {
 struct Run2dJson {
     scene: String,
     params: AlignedVibration,
+    /// The set the parameters started from (`custom` if overridden).
+    params_set: String,
+    /// The physical parameters the command line overrode.
+    overridden: Vec<&'static str>,
     method: String,
     mapping: String,
     mass: String,
@@ -41,63 +47,13 @@ struct Run2dJson {
     ppc: usize,
     dt: f64,
     steps: usize,
+    /// steps × dt.
     time: f64,
+    /// The manufactured solution's formulas (MLS paper Eqs. 38–42).
+    exact_solution: serde_json::Value,
     particles: Particles2dJson,
     diagnostics: serde_json::Value,
     warnings: Vec<String>,
-}
-
-fn method(a: &RunArgs) -> Result<AlignedMethod> {
-    if a.degree == 0 && a.method != MethodArg::Mpm {
-        return Err(Error::InvalidDegree(format!(
-            "{} needs --degree ≥ 1, got 0",
-            name(&a.method)
-        )));
-    }
-    match a.method {
-        MethodArg::Mpm => Ok(AlignedMethod::Mpm),
-        MethodArg::Bsmpm => Ok(AlignedMethod::Bsmpm { degree: a.degree }),
-        MethodArg::BsmpmMls => Ok(AlignedMethod::BsmpmMls { degree: a.degree }),
-        MethodArg::TlFe => Ok(AlignedMethod::TotalLagrangian { degree: a.degree }),
-        other => Err(Error::InvalidArgument(format!(
-            "aligned-vibration runs mpm, bsmpm, bsmpm-mls or tl-fe, not {}",
-            name(&other)
-        ))),
-    }
-}
-
-/// 9 PPC is 3 per side; a PPC that is not a square has no layout.
-fn per_side(ppc: usize) -> Result<usize> {
-    let side = (ppc as f64).sqrt().round() as usize;
-    if side * side == ppc {
-        Ok(side)
-    } else {
-        Err(Error::InvalidArgument(format!(
-            "aligned-vibration places --ppc particles on a square lattice in each cell, so --ppc must be a square (4, 9, 16, …), got {ppc}"
-        )))
-    }
-}
-
-/// Memory: about 400 bytes per particle, 100 per node, and for MLS 12
-/// bytes per (Gauss point, particle) pair, about 40 per particle (up to 7
-/// times that where the material is compressed); 250 bytes of JSON per
-/// particle. Time: the divan benchmark's 60 (MPM), 110 (BSMPM p = 2) and
-/// 500 (MLS) ns per particle-step, doubled for the compressed states and
-/// scaled by (p + 1)²/9 for other degrees.
-fn check_limits(a: &RunArgs, m: AlignedMethod, limits: &Limits) -> Result<()> {
-    let particles = (a.cells as f64).powi(2) * a.ppc() as f64;
-    let nodes = (a.cells as f64 + a.degree as f64).powi(2);
-    let mls = matches!(m, AlignedMethod::BsmpmMls { .. });
-    let what = || format!("a 2D run of {particles:.0} particles × {} steps", a.steps);
-    let bytes = particles * (650.0 + if mls { 7.0 * 40.0 * 12.0 } else { 0.0 }) + nodes * 100.0;
-    limits.check_memory(what, bytes, "particle, grid and MLS storage")?;
-    let width2 = (a.degree as f64 + 1.0).powi(2) / 9.0;
-    let ns = match m {
-        AlignedMethod::Mpm => 60.0,
-        AlignedMethod::BsmpmMls { .. } => 500.0 * width2,
-        _ => 110.0 * width2,
-    };
-    limits.check_time(what, 2.0 * ns * 1e-9 * particles * a.steps as f64)
 }
 
 fn rows(m: &[nalgebra::Matrix2<f64>]) -> Vec<[f64; 4]> {
@@ -106,14 +62,11 @@ fn rows(m: &[nalgebra::Matrix2<f64>]) -> Vec<[f64; 4]> {
         .collect()
 }
 
-/// `hompm run aligned-vibration`.
-pub fn run_aligned(a: &RunArgs, limits: &Limits) -> Result<Output> {
-    let m = method(a)?;
-    let side = per_side(a.ppc())?;
-    check_limits(a, m, limits)?;
-    let scene = parameters(a.params.as_deref().unwrap_or("mls-paper-e1e7"))?;
-    let mut sim = scene.simulation(m, a.cells, side, 1.0)?;
-    sim.run(a.dt, a.steps)?;
+/// `hompm run aligned-vibration`, for a setup already checked against the
+/// limits.
+pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
+    let (scene, m) = (s.scene, s.method);
+    let sim = run_2d(s)?;
     let errors = scene.errors(&sim)?;
     let p = &sim.particles;
     let diagnostics = serde_json::json!({
@@ -126,7 +79,9 @@ pub fn run_aligned(a: &RunArgs, limits: &Limits) -> Result<Output> {
     let doc = Run2dJson {
         scene: "aligned-vibration".into(),
         params: scene,
-        method: name(&a.method),
+        params_set: s.set_name.into(),
+        overridden: a.setup.overrides().names(),
+        method: name(&a.setup.method),
         mapping: if matches!(m, AlignedMethod::BsmpmMls { .. }) {
             "mls"
         } else {
@@ -134,12 +89,17 @@ pub fn run_aligned(a: &RunArgs, limits: &Limits) -> Result<Output> {
         }
         .into(),
         mass: "lumped".into(),
-        degree: if m == AlignedMethod::Mpm { 1 } else { a.degree },
-        cells: a.cells,
-        ppc: a.ppc(),
-        dt: a.dt,
-        steps: a.steps,
-        time: sim.time,
+        degree: if m == AlignedMethod::Mpm {
+            1
+        } else {
+            a.setup.degree
+        },
+        cells: s.cells,
+        ppc: s.per_side * s.per_side,
+        dt: s.dt,
+        steps: s.steps,
+        time: Setup::TwoD(*s).end_time(),
+        exact_solution: formulas_2d(false),
         particles: Particles2dJson {
             x0: p.x0.clone(),
             x: p.x.iter().zip(&p.y).map(|(&x, &y)| [x, y]).collect(),
@@ -158,7 +118,7 @@ pub fn run_aligned(a: &RunArgs, limits: &Limits) -> Result<Output> {
     } else {
         format!(
             "aligned-vibration (E = {}), {} ({}), {} × {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\ndiagnostics: {}\n",
-            scene.young, m.label(), doc.mapping, a.cells, a.cells, doc.ppc, a.steps, a.dt, sim.time, doc.diagnostics
+            scene.young, m.label(), doc.mapping, s.cells, s.cells, doc.ppc, s.steps, s.dt, doc.time, doc.diagnostics
         )
     };
     Ok(Output {

@@ -1,0 +1,65 @@
+//! # The oracle: another MPM code checks itself against the specification
+//!
+//! The floor between the studies and the command line. It holds what an
+//! author of a faster MPM code needs to compare that code with hompm, the
+//! command line only parsing and printing (docs/oracle.md is the guide):
+//!
+//! - [`setup`]: the run another code can match: named parameter sets with
+//!   overrides of every physical parameter, the discretisation, the
+//!   solver's stopping rule; `hompm run`, `trace` and `check` share it;
+//! - [`exact`]: the exact and manufactured fields at any point and time
+//!   (thesis Eqs. 4.1–4.2, book Eqs. 4.50–4.52, MLS paper Eqs. 38–42);
+//! - [`run`]: a setup run under the stability monitor, with an observer
+//!   inside each step;
+//! - [`trace`]: the quantities of each numbered equation of the 1D step
+//!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
+//! - [`input`]: the other code's particles or trace, in CSV or JSON;
+//! - [`check`](mod@check): the comparison, field by field and equation by
+//!   equation, with a verdict;
+//! - [`convergence`](mod@convergence): observed orders over resolutions.
+//!
+//! Items: [`setup`], [`exact`], [`run`], [`trace`], [`input`],
+//! [`check`](mod@check), [`convergence`](mod@convergence),
+//! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
+
+pub mod check;
+pub mod convergence;
+pub mod exact;
+pub mod input;
+pub mod run;
+pub mod setup;
+pub mod trace;
+
+use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::scenes::Discretisation;
+
+/// Bytes of memory per byte of an input file while it is parsed (the text,
+/// the parsed columns and hompm's copy): a file larger than the memory
+/// limit divided by this is refused before it is read.
+pub const INPUT_MEMORY_FACTOR: u64 = 4;
+
+/// A 1D discretisation in words: `BSMPM-p2 with direct mapping and lumped
+/// mass`.
+pub fn method_label_1d(d: &Discretisation) -> String {
+    let mapping = match d.velocity_mapping {
+        Mapping::Direct => "direct mapping",
+        Mapping::Tls => "TLS mapping",
+        Mapping::CubicSpline => "cubic-spline mapping",
+        Mapping::CubicSplineClipped => "clipped cubic-spline mapping",
+    };
+    let mass = match d.mass {
+        MassMatrix::Lumped => "lumped mass".to_string(),
+        MassMatrix::Consistent(ConsistentSolver::Cholesky) => "consistent mass (Cholesky)".into(),
+        MassMatrix::Consistent(ConsistentSolver::Richardson {
+            tolerance,
+            residual,
+        }) => format!(
+            "consistent mass (Richardson to {tolerance:e}, residual over ‖{}‖)",
+            match residual {
+                crate::solve::richardson::ResidualNorm::Rhs => "P",
+                crate::solve::richardson::ResidualNorm::Solution => "v",
+            }
+        ),
+    };
+    format!("{} with {mapping} and {mass}", d.method.label())
+}

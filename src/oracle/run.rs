@@ -1,0 +1,140 @@
+//! # Running a setup under the stability monitor
+//!
+//! One function per dimension runs a [`Setup1d`] or [`Setup2d`] the way
+//! `hompm run` does: each 1D step is followed by the stability monitor's
+//! check (`mpm::monitor`), and a run that failed with Δt above the measured
+//! critical step names that cause ([`Error::Diverged`]). `hompm run`,
+//! `trace` and `check` all call these, so they run the same steps.
+//!
+//! [`trace_1d`] runs a 1D setup with the trace recorder inside, and
+//! [`reference`] gives hompm's final state (and trace) that `hompm check`
+//! compares with.
+//!
+//! Items: [`run_1d`], [`run_2d`], [`Run1d`], [`trace_1d`], [`reference`].
+
+use super::check::{state_1d, state_2d, State};
+use super::setup::{Setup, Setup1d, Setup2d};
+use super::trace::{header_1d, Trace, TraceObserver};
+use crate::error::{DivergenceCause, Error, Result};
+use crate::mpm::monitor::{StabilityMonitor, Warning};
+use crate::mpm::musl::NoObserver;
+use crate::mpm::musl::{Simulation, StepObserver};
+use crate::mpm2d::step::Simulation2d;
+use std::collections::BTreeSet;
+
+/// A finished 1D run: the simulation at its end and the monitor's warnings.
+#[derive(Debug)]
+pub struct Run1d {
+    /// The simulation after the last step.
+    pub simulation: Simulation,
+    /// What the monitor found suspicious.
+    pub warnings: Vec<Warning>,
+}
+
+/// Runs `setup` with `observer` called inside every step; `progress` is
+/// called after each step with the number of steps done.
+pub fn run_1d<O: StepObserver>(
+    setup: &Setup1d,
+    observer: &mut O,
+    progress: &mut dyn FnMut(usize),
+) -> Result<Run1d> {
+    let mut sim = setup.scene.simulation(&setup.discretisation)?;
+    let mut monitor = StabilityMonitor::new(&sim, setup.dt)?;
+    for k in 0..setup.steps {
+        sim.step_observed(setup.dt, observer)
+            .and_then(|()| monitor.check(&sim))
+            .map_err(|e| with_time_step_cause(e, &monitor, sim.time))?;
+        progress(k + 1);
+    }
+    sim.diagnostics.final_energy = sim.energy();
+    Ok(Run1d {
+        warnings: monitor.warnings().to_vec(),
+        simulation: sim,
+    })
+}
+
+/// Runs a 2D setup (MLS paper Eqs. 18–37) to its end.
+pub fn run_2d(setup: &Setup2d) -> Result<Simulation2d> {
+    let mut sim = setup
+        .scene
+        .simulation(setup.method, setup.cells, setup.per_side, 1.0)?;
+    sim.run(setup.dt, setup.steps)?;
+    Ok(sim)
+}
+
+/// A run that failed with Δt above the measured critical step failed
+/// because of it: the error becomes [`Error::Diverged`] naming that cause,
+/// keeping the step and particle of the original error.
+fn with_time_step_cause(e: Error, monitor: &StabilityMonitor, time: f64) -> Error {
+    let Some(&Warning::TimeStepAboveCritical {
+        dt,
+        critical_dt,
+        critical_courant,
+    }) = monitor
+        .warnings()
+        .iter()
+        .find(|w| matches!(w, Warning::TimeStepAboveCritical { .. }))
+    else {
+        return e;
+    };
+    let (step, particle) = match &e {
+        Error::NonPhysicalParticle { step, particle, .. } => (*step, Some(*particle)),
+        Error::ParticleLeftGrid { step, particle, .. } => (*step, Some(*particle)),
+        Error::Diverged { step, particle, .. } => (*step, *particle),
+        _ => return e,
+    };
+    Error::Diverged {
+        step,
+        time,
+        particle,
+        cause: DivergenceCause::TimeStepAboveCritical {
+            dt,
+            critical_dt,
+            critical_courant,
+            failure: Box::new(e.clone()),
+        },
+    }
+}
+
+/// hompm's trace of a 1D setup, of steps 1, 1 + `every`, … and the last,
+/// or of exactly the steps `only`; with the run itself.
+pub fn trace_1d(
+    s: &Setup1d,
+    every: usize,
+    only: Option<BTreeSet<usize>>,
+) -> Result<(Trace, Run1d)> {
+    let constitutive = s.scene.constitutive();
+    let mut observer = match only {
+        Some(steps) => TraceObserver::for_steps(s.dt, steps, constitutive),
+        None => TraceObserver::new(s.dt, every, s.steps, constitutive),
+    };
+    let run = run_1d(s, &mut observer, &mut |_| {})?;
+    let mut header = header_1d(s)?;
+    header.insert("every".into(), serde_json::json!(every));
+    Ok((observer.into_trace(header), run))
+}
+
+/// hompm's final state for a setup, as `hompm check` compares it, and its
+/// trace of the steps `only` if given (1D only).
+pub fn reference(setup: &Setup, only: Option<BTreeSet<usize>>) -> Result<(State, Option<Trace>)> {
+    match setup {
+        Setup::OneD(s) => match only {
+            Some(steps) => {
+                let (trace, run) = trace_1d(s, 1, Some(steps))?;
+                Ok((state_1d(s, &run.simulation), Some(trace)))
+            }
+            None => {
+                let run = run_1d(s, &mut NoObserver, &mut |_| {})?;
+                Ok((state_1d(s, &run.simulation), None))
+            }
+        },
+        Setup::TwoD(s) => {
+            if only.is_some() {
+                return Err(Error::Input(
+                    "a trace checks the 1D step; give aligned-vibration's final particles".into(),
+                ));
+            }
+            Ok((state_2d(s, &run_2d(s)?), None))
+        }
+    }
+}

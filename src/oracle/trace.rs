@@ -1,0 +1,464 @@
+//! # The trace: the quantities of each numbered equation at each step
+//!
+//! [`TraceObserver`] is a [`StepObserver`]: the 1D step (book §4.2.2)
+//! hands it the simulation after each numbered function, and it copies
+//! the quantities of the equations that function completed
+//! ([`EQUATIONS_1D`]). A traced run is therefore the run itself, bit for
+//! bit (tests/oracle.rs compares a traced run with an untraced one).
+//!
+//! The schema (docs/oracle.md): a header with the schema name, its
+//! version and every setting of the run; then, per traced step, one array
+//! of values per equation key. Keys are stable, and only ever added.
+//! Steps are numbered from 1; `--every N` traces steps 1, 1 + N, 1 + 2N, …
+//! and always the last.
+//!
+//! Items: [`Equation`], [`IndexKind`], [`EQUATIONS_1D`], [`equation`],
+//! [`Trace`], [`TraceStep`], [`TraceObserver`], [`header_1d`],
+//! [`TRACE_SCHEMA`], [`TRACE_VERSION`].
+
+use super::setup::Setup1d;
+use crate::error::Result;
+use crate::mpm::musl::{Constitutive, Simulation, StepObserver, StepPoint};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The schema name a trace carries in its header.
+pub const TRACE_SCHEMA: &str = "hompm-trace";
+/// The version of the trace schema.
+pub const TRACE_VERSION: u32 = 1;
+
+/// What one entry of an equation's values is indexed by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IndexKind {
+    /// A grid DOF (node), 0-based.
+    Dof,
+    /// A particle, 0-based in hompm's order.
+    Particle,
+    /// The solver's [iterations, final relative residual].
+    Solver,
+}
+
+impl IndexKind {
+    /// The word for an index of this kind in a sentence ("DOF 7").
+    pub fn word(self) -> &'static str {
+        match self {
+            IndexKind::Dof => "DOF",
+            IndexKind::Particle => "particle",
+            IndexKind::Solver => "entry",
+        }
+    }
+}
+
+/// One traced equation: its key, what it is, and where the seeds state it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Equation {
+    /// The stable key, e.g. `book-4.10`.
+    pub key: &'static str,
+    /// The symbol, e.g. `v_i`.
+    pub symbol: &'static str,
+    /// What the quantity is, in words.
+    pub quantity: &'static str,
+    /// The citation, e.g. `book Eq. (4.10)`.
+    pub citation: &'static str,
+    /// What the values are indexed by.
+    pub index: IndexKind,
+    /// The point of the step after which the values are final.
+    #[serde(skip)]
+    pub point: StepPoint,
+}
+
+const fn eq(
+    key: &'static str,
+    symbol: &'static str,
+    quantity: &'static str,
+    citation: &'static str,
+    index: IndexKind,
+    point: StepPoint,
+) -> Equation {
+    Equation {
+        key,
+        symbol,
+        quantity,
+        citation,
+        index,
+        point,
+    }
+}
+
+/// The traced equations of the 1D MUSL step, in the order the step
+/// computes them (the order in which `hompm check` looks for the first
+/// difference). The stress key is `book-4.15` for the small-strain update
+/// and `book-4.16` for the large-strain one; both are listed.
+pub const EQUATIONS_1D: [Equation; 19] = [
+    eq(
+        "book-4.5",
+        "m_i",
+        "the lumped nodal mass",
+        "book Eq. (4.5)",
+        IndexKind::Dof,
+        StepPoint::MassAndLoads,
+    ),
+    eq(
+        "thesis-3.2",
+        "f_ext,i",
+        "the external nodal force (gravity and traction)",
+        "thesis §3.2",
+        IndexKind::Dof,
+        StepPoint::MassAndLoads,
+    ),
+    eq(
+        "book-4.6",
+        "f_int,i",
+        "the internal nodal force",
+        "book Eq. (4.6)",
+        IndexKind::Dof,
+        StepPoint::InternalForce,
+    ),
+    eq(
+        "book-4.8",
+        "a_i",
+        "the nodal acceleration before the boundary conditions",
+        "book Eq. (4.8)",
+        IndexKind::Dof,
+        StepPoint::Acceleration,
+    ),
+    eq(
+        "book-4.8-bc",
+        "a_i",
+        "the nodal acceleration with the boundary conditions",
+        "book Eq. (4.8) and §4.2.2",
+        IndexKind::Dof,
+        StepPoint::AccelerationConditions,
+    ),
+    eq(
+        "book-4.9",
+        "v_p",
+        "the updated particle velocity",
+        "book Eq. (4.9)",
+        IndexKind::Particle,
+        StepPoint::ParticleVelocity,
+    ),
+    eq(
+        "book-4.10-rhs",
+        "p_i",
+        "the projection's right-hand side (nodal momentum)",
+        "book Eq. (4.10)",
+        IndexKind::Dof,
+        StepPoint::NodalVelocity,
+    ),
+    eq(
+        "book-4.10",
+        "v_i",
+        "the projected nodal velocity before the boundary conditions",
+        "book Eq. (4.10)",
+        IndexKind::Dof,
+        StepPoint::NodalVelocity,
+    ),
+    eq(
+        "book-4.10-solver",
+        "[iterations, residual]",
+        "the projection solver's iterations and final relative residual",
+        "thesis §7.2",
+        IndexKind::Solver,
+        StepPoint::NodalVelocity,
+    ),
+    eq(
+        "book-4.10-bc",
+        "v_i",
+        "the projected nodal velocity with the boundary conditions",
+        "book Eq. (4.10) and §4.2.2",
+        IndexKind::Dof,
+        StepPoint::NodalVelocityConditions,
+    ),
+    eq(
+        "book-4.11",
+        "Δu_i",
+        "the nodal displacement increment",
+        "book Eq. (4.11)",
+        IndexKind::Dof,
+        StepPoint::Positions,
+    ),
+    eq(
+        "book-4.12",
+        "u_p",
+        "the particle displacement",
+        "book Eq. (4.12)",
+        IndexKind::Particle,
+        StepPoint::Positions,
+    ),
+    eq(
+        "book-4.13",
+        "x_p",
+        "the particle position",
+        "book Eq. (4.13)",
+        IndexKind::Particle,
+        StepPoint::Positions,
+    ),
+    eq(
+        "book-4.14",
+        "Δε_p",
+        "the particle strain increment",
+        "book Eq. (4.14)",
+        IndexKind::Particle,
+        StepPoint::Positions,
+    ),
+    eq(
+        "book-4.15",
+        "σ_p",
+        "the particle stress (small-strain update)",
+        "book Eq. (4.15)",
+        IndexKind::Particle,
+        StepPoint::Stress,
+    ),
+    eq(
+        "book-4.16",
+        "σ_p",
+        "the particle stress (large-strain update)",
+        "book Eq. (4.16)",
+        IndexKind::Particle,
+        StepPoint::Stress,
+    ),
+    eq(
+        "book-4.17",
+        "V_p",
+        "the particle volume",
+        "book Eq. (4.17)",
+        IndexKind::Particle,
+        StepPoint::VolumeAndDensity,
+    ),
+    eq(
+        "book-4.18",
+        "ρ_p",
+        "the particle density",
+        "book Eq. (4.18)",
+        IndexKind::Particle,
+        StepPoint::VolumeAndDensity,
+    ),
+    eq(
+        "book-4.14-strain",
+        "ε_p",
+        "the accumulated particle strain Σ Δε_p",
+        "book Eq. (4.14), summed",
+        IndexKind::Particle,
+        StepPoint::VolumeAndDensity,
+    ),
+];
+
+/// The traced equation with key `key`.
+pub fn equation(key: &str) -> Option<&'static Equation> {
+    EQUATIONS_1D.iter().find(|e| e.key == key)
+}
+
+/// The stress key that applies to an update.
+fn stress_key(c: Constitutive) -> &'static str {
+    match c {
+        Constitutive::SmallStrain => "book-4.15",
+        Constitutive::LargeStrain => "book-4.16",
+    }
+}
+
+/// The values of every traced equation at one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TraceStep {
+    /// The step, from 1.
+    pub step: usize,
+    /// Its end time, step × Δt.
+    pub time: f64,
+    /// Values by equation key.
+    pub equations: BTreeMap<String, Vec<f64>>,
+}
+
+/// A whole trace: header and traced steps.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trace {
+    /// `hompm-trace`.
+    pub schema: String,
+    /// [`TRACE_VERSION`].
+    pub version: u32,
+    /// Every setting of the run, as `hompm run --json` prints them.
+    pub header: BTreeMap<String, serde_json::Value>,
+    /// The traced steps, in order.
+    pub steps: Vec<TraceStep>,
+}
+
+/// Records the quantities of [`EQUATIONS_1D`] at the traced steps.
+#[derive(Debug, Clone)]
+pub struct TraceObserver {
+    dt: f64,
+    every: usize,
+    last: usize,
+    only: Option<std::collections::BTreeSet<usize>>,
+    stress_key: &'static str,
+    current: Option<TraceStep>,
+    /// The steps recorded so far.
+    pub steps: Vec<TraceStep>,
+}
+
+impl TraceObserver {
+    /// An observer that records steps 1, 1 + every, … and `last`.
+    pub fn new(dt: f64, every: usize, last: usize, constitutive: Constitutive) -> Self {
+        Self {
+            dt,
+            every: every.max(1),
+            last,
+            only: None,
+            stress_key: stress_key(constitutive),
+            current: None,
+            steps: Vec::new(),
+        }
+    }
+
+    /// An observer that records exactly the steps `only` (those of
+    /// another code's trace).
+    pub fn for_steps(
+        dt: f64,
+        only: std::collections::BTreeSet<usize>,
+        constitutive: Constitutive,
+    ) -> Self {
+        let mut o = Self::new(dt, 1, 0, constitutive);
+        o.only = Some(only);
+        o
+    }
+
+    /// Whether step `s` (from 1) is traced.
+    pub fn traces(&self, s: usize) -> bool {
+        match &self.only {
+            Some(only) => only.contains(&s),
+            None => (s - 1).is_multiple_of(self.every) || s == self.last,
+        }
+    }
+
+    /// The recorded steps as a [`Trace`] with `header`.
+    pub fn into_trace(self, header: BTreeMap<String, serde_json::Value>) -> Trace {
+        Trace {
+            schema: TRACE_SCHEMA.into(),
+            version: TRACE_VERSION,
+            header,
+            steps: self.steps,
+        }
+    }
+
+    fn put(&mut self, key: &str, values: &[f64]) {
+        if let Some(c) = self.current.as_mut() {
+            c.equations.insert(key.to_string(), values.to_vec());
+        }
+    }
+}
+
+impl StepObserver for TraceObserver {
+    fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> Result<()> {
+        let step = sim.diagnostics.steps + 1;
+        if point == StepPoint::MassAndLoads {
+            self.current = self.traces(step).then(|| TraceStep {
+                step,
+                time: step as f64 * self.dt,
+                equations: BTreeMap::new(),
+            });
+        }
+        if self.current.is_none() {
+            return Ok(());
+        }
+        let ws = sim.workspace();
+        let p = &sim.particles;
+        match point {
+            StepPoint::MassAndLoads => {
+                let external: Vec<f64> = ws
+                    .gravity_force
+                    .iter()
+                    .zip(&ws.traction_force)
+                    .map(|(g, t)| g + t)
+                    .collect();
+                let mass = ws.mass.clone();
+                self.put("book-4.5", &mass);
+                self.put("thesis-3.2", &external);
+            }
+            StepPoint::InternalForce => {
+                let f = ws.internal_force.clone();
+                self.put("book-4.6", &f);
+            }
+            StepPoint::Acceleration => {
+                let a = ws.acceleration.clone();
+                self.put("book-4.8", &a);
+            }
+            StepPoint::AccelerationConditions => {
+                let a = ws.acceleration.clone();
+                self.put("book-4.8-bc", &a);
+            }
+            StepPoint::ParticleVelocity => {
+                let v = p.v.clone();
+                self.put("book-4.9", &v);
+            }
+            StepPoint::NodalVelocity => {
+                let m = &ws.mapping;
+                let (rhs, v) = (m.momentum.clone(), m.velocity.clone());
+                let solver = [m.solver_iterations as f64, m.solver_residual];
+                self.put("book-4.10-rhs", &rhs);
+                self.put("book-4.10", &v);
+                self.put("book-4.10-solver", &solver);
+            }
+            StepPoint::NodalVelocityConditions => {
+                let v = ws.mapping.velocity.clone();
+                self.put("book-4.10-bc", &v);
+            }
+            StepPoint::Positions => {
+                let du: Vec<f64> = ws.mapping.velocity.iter().map(|v| self.dt * v).collect();
+                let (u, x, de) = (p.u.clone(), p.x.clone(), ws.strain_increment.clone());
+                self.put("book-4.11", &du);
+                self.put("book-4.12", &u);
+                self.put("book-4.13", &x);
+                self.put("book-4.14", &de);
+            }
+            StepPoint::Stress => {
+                let s = p.stress.clone();
+                let key = self.stress_key;
+                self.put(key, &s);
+            }
+            StepPoint::VolumeAndDensity => {
+                let (vol, rho, eps) = (p.volume.clone(), p.density.clone(), p.strain.clone());
+                self.put("book-4.17", &vol);
+                self.put("book-4.18", &rho);
+                self.put("book-4.14-strain", &eps);
+                if let Some(done) = self.current.take() {
+                    self.steps.push(done);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The header of a 1D setup's trace: the setup's settings as `hompm`
+/// serialises them (`scene` with its parameters, `discretisation`, `dt`,
+/// `steps`) and the hompm version.
+pub fn header_1d(setup: &Setup1d) -> Result<BTreeMap<String, serde_json::Value>> {
+    let value = super::setup::to_json(setup)?;
+    let mut header: BTreeMap<String, serde_json::Value> = match value {
+        serde_json::Value::Object(m) => m.into_iter().collect(),
+        _ => BTreeMap::new(),
+    };
+    header.insert("hompm".into(), serde_json::json!(env!("CARGO_PKG_VERSION")));
+    Ok(header)
+}
+
+impl Trace {
+    /// The trace as CSV: `#` header lines (`# key: value`, values as JSON),
+    /// then `step,time,equation,index,value` rows.
+    pub fn to_csv(&self) -> String {
+        let mut out = format!("# schema: {}\n# version: {}\n", self.schema, self.version);
+        for (k, v) in &self.header {
+            out.push_str(&format!("# {k}: {v}\n"));
+        }
+        out.push_str("step,time,equation,index,value\n");
+        for s in &self.steps {
+            for e in EQUATIONS_1D.iter() {
+                if let Some(values) = s.equations.get(e.key) {
+                    for (i, v) in values.iter().enumerate() {
+                        out.push_str(&format!("{},{:e},{},{i},{v:e}\n", s.step, s.time, e.key));
+                    }
+                }
+            }
+        }
+        out
+    }
+}
