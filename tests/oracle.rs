@@ -675,3 +675,56 @@ fn the_observed_order_of_hompm_s_own_output_holds_against_hompm() {
     assert!((fit.order - 2.0).abs() < 1e-12 && fit.spread < 1e-12);
     assert_eq!(fit.pairwise.len(), 2);
 }
+
+#[test]
+fn check_names_eq_27_and_the_node_component_for_a_2d_acceleration_defect() {
+    use hompm::mpm2d::step::{Simulation2d, StepObserver2d, StepPoint2d};
+    use hompm::oracle::trace::{header_2d, Recorder, TraceObserver2d};
+    struct Defective2d(TraceObserver2d);
+    impl StepObserver2d for Defective2d {
+        fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> hompm::Result<()> {
+            if point == StepPoint2d::NodalUpdate && sim.steps + 1 == 2 {
+                for a in &mut sim.workspace.force {
+                    a[1] *= 1.01;
+                }
+            }
+            self.0.observe(point, sim)
+        }
+    }
+    let setup = aligned(0.1, 1e7);
+    let Setup::TwoD(s) = setup else {
+        unreachable!()
+    };
+    let mut code = Defective2d(TraceObserver2d {
+        recorder: Recorder::new(s.dt, 1, s.steps),
+    });
+    hompm::oracle::run::run_2d_observed(&s, &mut code).unwrap();
+    let theirs = code.0.recorder.into_trace(header_2d(&s).unwrap());
+    let (ours, _) = hompm::oracle::run::trace_2d(&s, 1, None).unwrap();
+    // The first node whose a_y changes visibly under the factor 1.01.
+    let a = &ours.steps[1].equations["mls-27"];
+    let flat = (0..a.len())
+        .filter(|i| i % 2 == 1)
+        .find(|&i| {
+            let d = (0.01 * a[i]).abs();
+            d > DEFAULT_ATOL && d > DEFAULT_RTOL * a[i].abs()
+        })
+        .unwrap();
+    let only = theirs.steps.iter().map(|t| t.step).collect();
+    let (state, ours) = reference(&setup, Some(only)).unwrap();
+    let r = check(
+        &setup,
+        &state,
+        &Input::Trace(theirs),
+        ours.as_ref(),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    let d = r.first_difference.unwrap();
+    assert_eq!(
+        (d.step, d.equation.as_str(), d.index),
+        (2, "mls-27", flat / 2)
+    );
+    assert_eq!(d.component.as_deref(), Some("y"));
+    assert_eq!(d.index_kind, "node");
+}

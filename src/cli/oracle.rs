@@ -19,9 +19,9 @@ use crate::oracle::check::{check as compare, CheckOptions, MatchBy};
 use crate::oracle::convergence::convergence;
 use crate::oracle::exact::{exact_1d, exact_2d, formulas_1d, formulas_2d, reference_kind};
 use crate::oracle::input::{parse_input, read_input, ColumnMap, Input};
-use crate::oracle::run::{reference, trace_1d};
+use crate::oracle::run::{reference, trace_1d, trace_2d};
 use crate::oracle::setup::{Setup, Setup1d};
-use crate::oracle::trace::{header_1d, Trace, EQUATIONS_1D};
+use crate::oracle::trace::{header_1d, header_2d, Trace, EQUATIONS_1D, EQUATIONS_2D};
 use crate::oracle::INPUT_MEMORY_FACTOR;
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -278,22 +278,26 @@ fn layout_1d(s: &Setup1d) -> Result<Vec<f64>> {
     Ok(Particles::uniform(0.0, s.scene.length(), d.cells * d.ppc, 1.0)?.x0)
 }
 
-/// The 1D setup of a command, or a sentence saying trace covers 1D only.
-fn one_d(setup: Setup, command: &str) -> Result<Setup1d> {
-    match setup {
-        Setup::OneD(s) => Ok(s),
-        Setup::TwoD(_) => Err(Error::InvalidArgument(format!(
-            "{command} covers the 1D step (book Eqs. 4.5-4.18); a trace of the 2D step is not implemented yet, so check aligned-vibration by its final particles"
-        ))),
-    }
-}
-
-/// Bytes of a trace of `steps` traced steps.
-fn trace_bytes(s: &Setup1d, steps: usize) -> f64 {
-    let d = &s.discretisation;
-    let particles = (d.cells * d.ppc) as f64;
-    let dofs = 2.0 * d.cells as f64 + 8.0;
-    steps as f64 * (8.0 * particles + 9.0 * dofs) * 8.0 * 4.0
+/// Bytes of a trace of `steps` traced steps: 8 particle and 9 DOF
+/// quantities per step in 1D; 14 per particle, 11 per node and 8 per
+/// Gauss point in 2D; each kept twice (values and text) and doubled for
+/// the formatting.
+fn trace_bytes(setup: &Setup, steps: usize) -> f64 {
+    let per_step = match setup {
+        Setup::OneD(s) => {
+            let d = &s.discretisation;
+            let particles = (d.cells * d.ppc) as f64;
+            let dofs = 2.0 * d.cells as f64 + 8.0;
+            8.0 * particles + 9.0 * dofs
+        }
+        Setup::TwoD(s) => {
+            let c = s.cells as f64;
+            let particles = c * c * (s.per_side * s.per_side) as f64;
+            let nodes = (c + 5.0) * (c + 5.0);
+            14.0 * particles + 11.0 * nodes + 32.0 * c * c
+        }
+    };
+    steps as f64 * per_step * 8.0 * 4.0
 }
 
 /// `hompm trace`.
@@ -302,15 +306,17 @@ pub fn trace(a: TraceArgs, limits: &Limits) -> Result<Output> {
         return Err(Error::InvalidArgument("--every must be at least 1".into()));
     }
     let setup = a.setup.setup()?;
-    let s = one_d(setup, "trace")?;
-    let traced = if s.steps == 0 {
+    let traced = if setup.steps() == 0 {
         0
     } else {
-        (s.steps - 1) / a.every + 2
+        (setup.steps() - 1) / a.every + 2
     };
     a.setup
-        .check_limits(&setup, limits, trace_bytes(&s, traced))?;
-    let (trace, _) = trace_1d(&s, a.every, None)?;
+        .check_limits(&setup, limits, trace_bytes(&setup, traced))?;
+    let trace = match &setup {
+        Setup::OneD(s) => trace_1d(s, a.every, None)?.0,
+        Setup::TwoD(s) => trace_2d(s, a.every, None)?.0,
+    };
     let stdout = if a.json {
         json::strict(&trace)?
     } else if a.csv {
@@ -329,7 +335,7 @@ fn trace_summary(t: &Trace) -> String {
     );
     for s in &t.steps {
         out.push_str(&format!("step {} (t = {:e})\n", s.step, s.time));
-        for e in EQUATIONS_1D.iter() {
+        for e in EQUATIONS_1D.iter().chain(EQUATIONS_2D.iter()) {
             if let Some(v) = s.equations.get(e.key) {
                 let (lo, hi) = v
                     .iter()
@@ -379,14 +385,11 @@ pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
     let (input, ignored) = read(path, &a, limits)?;
     let only = match &input {
         Input::Trace(t) => {
-            if let Setup::OneD(s) = &setup {
-                let mut ours = header_1d(s)?;
-                ours.remove("hompm");
-                let mut theirs = t.header.clone();
-                theirs.remove("every");
-                theirs.remove("hompm");
-                crate::oracle::check::check_header(&theirs, &ours)?;
-            }
+            let ours = match &setup {
+                Setup::OneD(s) => header_1d(s)?,
+                Setup::TwoD(s) => header_2d(s)?,
+            };
+            crate::oracle::check::check_header(&t.header, &ours)?;
             Some(t.steps.iter().map(|s| s.step).collect())
         }
         Input::Particles(_) => None,

@@ -25,12 +25,18 @@
 //! node without mass (m_i ≤ 0, possible only where no particle reaches) is
 //! inactive: a_i = v_i = 0.
 //!
+//! [`Simulation2d::step_observed`] calls a [`StepObserver2d`] after each
+//! phase ([`StepPoint2d`]) with the simulation as the phase left it; the
+//! trace of `hompm trace aligned-vibration` is recorded so, from the step
+//! that runs. [`Simulation2d::step`] passes [`NoObserver2d`].
+//!
 //! A step allocates nothing: the stencils, nodal arrays and MLS lists live
 //! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
 //! Items: [`Mapping2d`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
-//! [`Conservation2d`], [`Simulation2d`], the phase functions above, and
+//! [`Conservation2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
+//! [`NoObserver2d`], the phase functions above, and
 //! [`map_direct_reference`] and [`update_deformation_reference`] of the
 //! total-Lagrangian reference.
 
@@ -57,6 +63,42 @@ pub enum Mapping2d {
     /// direct mapping for the end-of-step velocity (Eqs. 31–33), to tell
     /// which of the two MLS mappings drives the errors.
     MlsPhase1,
+}
+
+/// The points of a 2D step after which a [`StepObserver2d`] is called.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepPoint2d {
+    /// Phase 1 (Eqs. 18–25): m_i, (mv)_i and f_i = f^b + f^int in the
+    /// workspace (and, with MLS, the Gauss-point values of Eqs. 18–21).
+    GridMapping,
+    /// Phase 2 (Eqs. 26–28): `force` holds a_i, `momentum` (mv)^{t+1},
+    /// `velocity` v^{t+1} = (mv)^{t+1}/m.
+    NodalUpdate,
+    /// Phase 3 (Eqs. 29–30): v_p, x_p and u_p.
+    ParticleUpdate,
+    /// Eqs. (31)–(33): `momentum` holds (mv)^L, `velocity` v^L.
+    EndOfStepVelocity,
+    /// Eqs. (34)–(37), (41): F_p, V_p, ρ_p, σ_p.
+    Deformation,
+}
+
+/// Called by [`Simulation2d::step_observed`] after each phase.
+pub trait StepObserver2d {
+    /// The step has just passed `point`; `sim.steps` steps were completed
+    /// before this one.
+    fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> Result<()>;
+}
+
+/// The observer that does nothing ([`Simulation2d::step`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoObserver2d;
+
+impl StepObserver2d for NoObserver2d {
+    #[inline(always)]
+    fn observe(&mut self, _: StepPoint2d, _: &mut Simulation2d) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A body force per unit mass given at the particles, b_p(t).
@@ -127,6 +169,9 @@ pub struct Workspace2d {
     /// [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] per particle, the values
     /// the MLS mapping carries to the Gauss points (Eqs. 18–21).
     pub particle_values: Vec<[f64; 8]>,
+    /// The same eight values at every Gauss point g = gx + 2·cells·gy after
+    /// the MLS mapping of phase 1, Eqs. (18)–(21) (MLS only).
+    pub gauss_values: Vec<[f64; 8]>,
 }
 
 /// A 2D simulation: grid, particles, settings, workspace and clock.
@@ -187,6 +232,11 @@ impl Simulation2d {
             } else {
                 Vec::new()
             },
+            gauss_values: if mls.is_some() {
+                vec![[0.0; 8]; 4 * grid.cells() * grid.cells()]
+            } else {
+                Vec::new()
+            },
             mls,
         };
         let mut sim = Self {
@@ -208,30 +258,45 @@ impl Simulation2d {
 
     /// One step of length Δt > 0, MLS paper Eqs. (18)–(37).
     pub fn step(&mut self, dt: f64) -> Result<()> {
+        self.step_observed(dt, &mut NoObserver2d)
+    }
+
+    /// One step of length Δt > 0 that calls `observer` after each phase
+    /// ([`StepPoint2d`]).
+    pub fn step_observed<O: StepObserver2d>(&mut self, dt: f64, observer: &mut O) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::InvalidArgument(format!(
                 "the time step must be positive and finite, got {dt}"
             )));
         }
-        let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
         let total = self.settings.formulation == Formulation::TotalLagrangian;
         // The step and time this step reaches, for its errors.
-        let failed = |e| at_step(e, self.steps + 1, self.time + dt);
-        if !total {
-            evaluate_basis(grid, p, ws, self.steps)?;
+        let (next_step, next_time) = (self.steps + 1, self.time + dt);
+        let failed = move |e| at_step(e, next_step, next_time);
+        {
+            let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
+            if !total {
+                evaluate_basis(grid, p, ws, self.steps)?;
+            }
+            if let Some(b) = &self.body_force {
+                b.fill(self.time, &p.x0, &mut ws.body_force);
+            }
+            match self.settings.mapping {
+                Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
+                Mapping2d::Direct => map_direct(grid, p, ws),
+                Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
+            }
+            record_conservation(p, ws, &mut self.conservation);
         }
-        if let Some(b) = &self.body_force {
-            b.fill(self.time, &p.x0, &mut ws.body_force);
-        }
-        match self.settings.mapping {
-            Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
-            Mapping2d::Direct => map_direct(grid, p, ws),
-            Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
-        }
-        record_conservation(p, ws, &mut self.conservation);
-        nodal_update(grid, ws, dt);
-        update_particles(grid, p, ws, dt);
-        end_of_step_velocity(grid, p, ws, self.settings.mapping);
+        observer.observe(StepPoint2d::GridMapping, self)?;
+        nodal_update(&self.grid, &mut self.workspace, dt);
+        observer.observe(StepPoint2d::NodalUpdate, self)?;
+        update_particles(&self.grid, &mut self.particles, &self.workspace, dt);
+        observer.observe(StepPoint2d::ParticleUpdate, self)?;
+        let mapping = self.settings.mapping;
+        end_of_step_velocity(&self.grid, &self.particles, &mut self.workspace, mapping);
+        observer.observe(StepPoint2d::EndOfStepVelocity, self)?;
+        let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
         let material = &self.settings.material;
         if total {
             update_deformation_reference(grid, p, ws, material, dt)
@@ -239,6 +304,7 @@ impl Simulation2d {
             update_deformation(grid, p, ws, material, dt)
         }
         .map_err(failed)?;
+        observer.observe(StepPoint2d::Deformation, self)?;
         self.steps += 1;
         self.time += dt;
         Ok(())
@@ -454,6 +520,7 @@ fn map_mls_with(
                 *qi += phi * di;
             }
         }
+        ws.gauss_values[g] = q;
         scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
     }
     Ok(())

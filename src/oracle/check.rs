@@ -36,7 +36,7 @@
 use super::exact::{exact_1d, exact_2d};
 use super::input::{Input, ParticleTable};
 use super::setup::{Setup, Setup1d, Setup2d};
-use super::trace::{Trace, EQUATIONS_1D};
+use super::trace::{Equation, Trace, EQUATIONS_1D, EQUATIONS_2D};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -127,8 +127,11 @@ pub struct FirstDifference {
     pub quantity: String,
     /// `dof`, `particle` or `solver`.
     pub index_kind: String,
-    /// The DOF, particle or entry.
+    /// The DOF, node, particle, Gauss point or entry.
     pub index: usize,
+    /// The component (x, y, xx, …) of a vector or tensor quantity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub component: Option<String>,
     /// Both values (NaN never: a missing value is reported by `count`).
     pub values: Pair,
     /// Both codes' number of values, when they differ.
@@ -462,36 +465,41 @@ fn exact_errors(
 }
 
 /// Compares two traces step by step, equation by equation in the order
-/// of the step ([`EQUATIONS_1D`]), index by index: the first value that
-/// fails the tolerance rule, and the keys compared.
+/// of the step (`table`: [`EQUATIONS_1D`] or [`EQUATIONS_2D`]), index by
+/// index: the first value that fails the tolerance rule, and the keys
+/// compared.
 pub fn first_difference(
     theirs: &Trace,
     ours: &Trace,
     o: &CheckOptions,
+    table: &[Equation],
 ) -> (Option<FirstDifference>, Vec<String>) {
     let mut compared: Vec<String> = Vec::new();
     for ts in &theirs.steps {
         let Some(os) = ours.steps.iter().find(|s| s.step == ts.step) else {
             continue;
         };
-        for e in EQUATIONS_1D.iter() {
+        for e in table {
             let (Some(y), Some(h)) = (ts.equations.get(e.key), os.equations.get(e.key)) else {
                 continue;
             };
             if !compared.iter().any(|k| k == e.key) {
                 compared.push(e.key.to_string());
             }
-            let diff =
-                |index: usize, yours: f64, hompm: f64, count: Option<[usize; 2]>| FirstDifference {
+            let diff = |flat: usize, yours: f64, hompm: f64, count: Option<[usize; 2]>| {
+                let (index, component) = e.locate(flat);
+                FirstDifference {
                     step: ts.step,
                     equation: e.key.into(),
                     citation: e.citation.into(),
                     quantity: format!("{} {}", e.quantity, e.symbol),
                     index_kind: e.index.word().into(),
                     index,
+                    component: component.map(str::to_string),
                     values: Pair { yours, hompm },
                     count,
-                };
+                }
+            };
             for (i, (&a, &b)) in y.iter().zip(h).enumerate() {
                 if fails(a, b, o) {
                     return (Some(diff(i, a, b, None)), compared);
@@ -514,6 +522,9 @@ pub fn first_difference(
 pub fn state_of_trace(trace: &Trace) -> Option<ParticleTable> {
     let last = trace.steps.last()?;
     let get = |k: &str| last.equations.get(k).cloned();
+    if let (Some(x), Some(u)) = (get("mls-30"), get("mls-30-u")) {
+        return Some(state_of_trace_2d(&x, &u, &get));
+    }
     let (x, u) = (get("book-4.13")?, get("book-4.12")?);
     let mut t = ParticleTable::default();
     let x0: Vec<f64> = x.iter().zip(&u).map(|(x, u)| x - u).collect();
@@ -536,6 +547,41 @@ pub fn state_of_trace(trace: &Trace) -> Option<ParticleTable> {
         }
     }
     Some(t)
+}
+
+fn state_of_trace_2d(
+    x: &[f64],
+    u: &[f64],
+    get: &dyn Fn(&str) -> Option<Vec<f64>>,
+) -> ParticleTable {
+    let n = x.len() / 2;
+    let mut t = ParticleTable::default();
+    let col =
+        |v: &[f64], c: usize, w: usize| -> Vec<f64> { (0..n).map(|k| v[k * w + c]).collect() };
+    t.columns
+        .push(("id".into(), (0..n).map(|k| k as f64).collect()));
+    let x0: Vec<f64> = x.iter().zip(u).map(|(x, u)| x - u).collect();
+    for (name, v) in [("x0", &x0[..]), ("x", x), ("u", u)] {
+        t.columns.push((format!("{name}_x"), col(v, 0, 2)));
+        t.columns.push((format!("{name}_y"), col(v, 1, 2)));
+    }
+    if let Some(v) = get("mls-29").filter(|v| v.len() == 2 * n) {
+        t.columns.push(("v_x".into(), col(&v, 0, 2)));
+        t.columns.push(("v_y".into(), col(&v, 1, 2)));
+    }
+    for (key, name) in [("mls-35", "F"), ("mls-41", "stress")] {
+        if let Some(v) = get(key).filter(|v| v.len() == 4 * n) {
+            for (c, suffix) in ["xx", "xy", "yx", "yy"].iter().enumerate() {
+                t.columns.push((format!("{name}_{suffix}"), col(&v, c, 4)));
+            }
+        }
+    }
+    for (key, name) in [("mls-36", "volume"), ("mls-37", "density")] {
+        if let Some(v) = get(key).filter(|v| v.len() == n) {
+            t.columns.push((name.into(), v));
+        }
+    }
+    t
 }
 
 /// Checks a trace's header against hompm's: every setting both name must
@@ -662,8 +708,13 @@ pub fn check(
             "the file has no field to compare (x, u, v, stress, F, volume or density)".into(),
         ));
     }
+    let table: &[Equation] = if state.two_d {
+        &EQUATIONS_2D
+    } else {
+        &EQUATIONS_1D
+    };
     let (first, compared) = match (trace, ours) {
-        (Some(t), Some(h)) => first_difference(t, h, o),
+        (Some(t), Some(h)) => first_difference(t, h, o, table),
         _ => (None, Vec::new()),
     };
     let failures: usize = fields.values().map(|f| f.failures).sum();
@@ -717,8 +768,13 @@ fn verdict(
             .count
             .map(|[y, h]| format!(" (yours has {y} values, hompm {h})"))
             .unwrap_or_default();
+        let component = d
+            .component
+            .as_ref()
+            .map(|c| format!(" ({c})"))
+            .unwrap_or_default();
         lines.push(format!(
-            "differs from step {} at {}, {}, {} {}: yours {:e}, hompm {:e}{count} ({tolerance})",
+            "differs from step {} at {}, {}, {} {}{component}: yours {:e}, hompm {:e}{count} ({tolerance})",
             d.step, d.citation, d.quantity, d.index_kind, d.index, d.values.yours, d.values.hompm
         ));
     } else {

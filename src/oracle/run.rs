@@ -10,16 +10,17 @@
 //! [`reference`] gives hompm's final state (and trace) that `hompm check`
 //! compares with.
 //!
-//! Items: [`run_1d`], [`run_2d`], [`Run1d`], [`trace_1d`], [`reference`].
+//! Items: [`run_1d`], [`run_2d`], [`run_2d_observed`], [`Run1d`],
+//! [`trace_1d`], [`trace_2d`], [`reference`].
 
 use super::check::{state_1d, state_2d, State};
 use super::setup::{Setup, Setup1d, Setup2d};
-use super::trace::{header_1d, Trace, TraceObserver};
+use super::trace::{header_1d, header_2d, Recorder, Trace, TraceObserver, TraceObserver2d};
 use crate::error::{DivergenceCause, Error, Result};
 use crate::mpm::monitor::{StabilityMonitor, Warning};
 use crate::mpm::musl::NoObserver;
 use crate::mpm::musl::{Simulation, StepObserver};
-use crate::mpm2d::step::Simulation2d;
+use crate::mpm2d::step::{NoObserver2d, Simulation2d, StepObserver2d};
 use std::collections::BTreeSet;
 
 /// A finished 1D run: the simulation at its end and the monitor's warnings.
@@ -55,11 +56,38 @@ pub fn run_1d<O: StepObserver>(
 
 /// Runs a 2D setup (MLS paper Eqs. 18–37) to its end.
 pub fn run_2d(setup: &Setup2d) -> Result<Simulation2d> {
+    run_2d_observed(setup, &mut NoObserver2d)
+}
+
+/// [`run_2d`] with `observer` called inside every step.
+pub fn run_2d_observed<O: StepObserver2d>(
+    setup: &Setup2d,
+    observer: &mut O,
+) -> Result<Simulation2d> {
     let mut sim = setup
         .scene
         .simulation(setup.method, setup.cells, setup.per_side, 1.0)?;
-    sim.run(setup.dt, setup.steps)?;
+    for _ in 0..setup.steps {
+        sim.step_observed(setup.dt, observer)?;
+    }
     Ok(sim)
+}
+
+/// hompm's trace of a 2D setup (MLS paper Eqs. 18–41), as [`trace_1d`].
+pub fn trace_2d(
+    s: &Setup2d,
+    every: usize,
+    only: Option<BTreeSet<usize>>,
+) -> Result<(Trace, Simulation2d)> {
+    let recorder = match only {
+        Some(steps) => Recorder::for_steps(s.dt, steps),
+        None => Recorder::new(s.dt, every, s.steps),
+    };
+    let mut observer = TraceObserver2d { recorder };
+    let sim = run_2d_observed(s, &mut observer)?;
+    let mut header = header_2d(s)?;
+    header.insert("every".into(), serde_json::json!(every));
+    Ok((observer.recorder.into_trace(header), sim))
 }
 
 /// A run that failed with Δt above the measured critical step failed
@@ -128,13 +156,12 @@ pub fn reference(setup: &Setup, only: Option<BTreeSet<usize>>) -> Result<(State,
                 Ok((state_1d(s, &run.simulation), None))
             }
         },
-        Setup::TwoD(s) => {
-            if only.is_some() {
-                return Err(Error::Input(
-                    "a trace checks the 1D step; give aligned-vibration's final particles".into(),
-                ));
+        Setup::TwoD(s) => match only {
+            Some(steps) => {
+                let (trace, sim) = trace_2d(s, 1, Some(steps))?;
+                Ok((state_2d(s, &sim), Some(trace)))
             }
-            Ok((state_2d(s, &run_2d(s)?), None))
-        }
+            None => Ok((state_2d(s, &run_2d(s)?), None)),
+        },
     }
 }

@@ -12,13 +12,19 @@
 //! Steps are numbered from 1; `--every N` traces steps 1, 1 + N, 1 + 2N, …
 //! and always the last.
 //!
-//! Items: [`Equation`], [`IndexKind`], [`EQUATIONS_1D`], [`equation`],
-//! [`Trace`], [`TraceStep`], [`TraceObserver`], [`header_1d`],
-//! [`TRACE_SCHEMA`], [`TRACE_VERSION`].
+//! The 2D step (MLS paper Eqs. 18–41) is traced the same way by
+//! [`TraceObserver2d`] ([`EQUATIONS_2D`]), vectors and tensors flattened
+//! per node or particle.
+//!
+//! Items: [`Equation`], [`IndexKind`], [`EQUATIONS_1D`], [`EQUATIONS_2D`],
+//! [`equation`], [`Trace`], [`TraceStep`], [`Recorder`], [`TraceObserver`],
+//! [`TraceObserver2d`], [`header_1d`], [`header_2d`], [`TRACE_SCHEMA`],
+//! [`TRACE_VERSION`].
 
-use super::setup::Setup1d;
+use super::setup::{Setup1d, Setup2d};
 use crate::error::Result;
 use crate::mpm::musl::{Constitutive, Simulation, StepObserver, StepPoint};
+use crate::mpm2d::step::{Simulation2d, StepObserver2d, StepPoint2d};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -37,6 +43,10 @@ pub enum IndexKind {
     Particle,
     /// The solver's [iterations, final relative residual].
     Solver,
+    /// A 2D grid node i = ix + (cells + p)·iy, 0-based.
+    Node,
+    /// A 2D Gauss point g = gx + 2·cells·gy, 0-based.
+    GaussPoint,
 }
 
 impl IndexKind {
@@ -46,6 +56,8 @@ impl IndexKind {
             IndexKind::Dof => "DOF",
             IndexKind::Particle => "particle",
             IndexKind::Solver => "entry",
+            IndexKind::Node => "node",
+            IndexKind::GaussPoint => "Gauss point",
         }
     }
 }
@@ -63,9 +75,23 @@ pub struct Equation {
     pub citation: &'static str,
     /// What the values are indexed by.
     pub index: IndexKind,
-    /// The point of the step after which the values are final.
-    #[serde(skip)]
-    pub point: StepPoint,
+    /// Values per index, stored consecutively: 1, 2 (x, y), 4 (xx, xy,
+    /// yx, yy) or 8 (the Gauss-point values of MLS Eqs. 18–21).
+    pub components: usize,
+}
+
+impl Equation {
+    /// The entity (DOF, node, particle, …) and component of a flat index.
+    pub fn locate(&self, flat: usize) -> (usize, Option<&'static str>) {
+        let names: &[&str] = match self.components {
+            2 => &["x", "y"],
+            4 => &["xx", "xy", "yx", "yy"],
+            8 => &["ρ", "ρv_x", "ρv_y", "ρb_x", "ρb_y", "σ_xx", "σ_yy", "σ_xy"],
+            _ => &[],
+        };
+        let c = self.components.max(1);
+        (flat / c, names.get(flat % c).copied())
+    }
 }
 
 const fn eq(
@@ -74,7 +100,7 @@ const fn eq(
     quantity: &'static str,
     citation: &'static str,
     index: IndexKind,
-    point: StepPoint,
+    _point: StepPoint,
 ) -> Equation {
     Equation {
         key,
@@ -82,7 +108,25 @@ const fn eq(
         quantity,
         citation,
         index,
-        point,
+        components: 1,
+    }
+}
+
+const fn eq2(
+    key: &'static str,
+    symbol: &'static str,
+    quantity: &'static str,
+    citation: &'static str,
+    index: IndexKind,
+    components: usize,
+) -> Equation {
+    Equation {
+        key,
+        symbol,
+        quantity,
+        citation,
+        index,
+        components,
     }
 }
 
@@ -245,9 +289,138 @@ pub const EQUATIONS_1D: [Equation; 19] = [
     ),
 ];
 
-/// The traced equation with key `key`.
+/// The traced equations of the 2D step (MLS paper Eqs. 18–41), in the
+/// order the step computes them. Vectors and tensors are flattened per
+/// node or particle ([`Equation::components`]).
+pub const EQUATIONS_2D: [Equation; 15] = [
+    eq2(
+        "mls-18-21",
+        "[ρ, ρv, ρb, σ]_g",
+        "the MLS values at the Gauss points",
+        "MLS paper Eqs. (18)-(21)",
+        IndexKind::GaussPoint,
+        8,
+    ),
+    eq2(
+        "mls-22",
+        "m_i",
+        "the lumped nodal mass",
+        "MLS paper Eq. (22)",
+        IndexKind::Node,
+        1,
+    ),
+    eq2(
+        "mls-23",
+        "(mv)_i",
+        "the nodal momentum",
+        "MLS paper Eq. (23)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-26",
+        "f_i",
+        "the nodal force f^b + f^int",
+        "MLS paper Eqs. (24)-(26)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-27",
+        "a_i",
+        "the nodal acceleration with the wall conditions",
+        "MLS paper Eq. (27)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-28",
+        "(mv)_i^{t+1}",
+        "the updated nodal momentum",
+        "MLS paper Eq. (28)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-29",
+        "v_p",
+        "the updated particle velocity",
+        "MLS paper Eq. (29)",
+        IndexKind::Particle,
+        2,
+    ),
+    eq2(
+        "mls-30",
+        "x_p",
+        "the particle position",
+        "MLS paper Eq. (30)",
+        IndexKind::Particle,
+        2,
+    ),
+    eq2(
+        "mls-30-u",
+        "u_p",
+        "the particle displacement x_p − X_p",
+        "MLS paper Eq. (30)",
+        IndexKind::Particle,
+        2,
+    ),
+    eq2(
+        "mls-32",
+        "(mv)_i^L",
+        "the end-of-step nodal momentum",
+        "MLS paper Eqs. (31)-(32)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-33",
+        "v_i^L",
+        "the end-of-step nodal velocity with the wall conditions",
+        "MLS paper Eq. (33)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "mls-35",
+        "F_p",
+        "the deformation gradient",
+        "MLS paper Eqs. (34)-(35)",
+        IndexKind::Particle,
+        4,
+    ),
+    eq2(
+        "mls-36",
+        "V_p",
+        "the particle volume",
+        "MLS paper Eq. (36)",
+        IndexKind::Particle,
+        1,
+    ),
+    eq2(
+        "mls-37",
+        "ρ_p",
+        "the particle density",
+        "MLS paper Eq. (37)",
+        IndexKind::Particle,
+        1,
+    ),
+    eq2(
+        "mls-41",
+        "σ_p",
+        "the Cauchy stress",
+        "MLS paper Eq. (41)",
+        IndexKind::Particle,
+        4,
+    ),
+];
+
+/// The traced equation with key `key`, 1D or 2D.
 pub fn equation(key: &str) -> Option<&'static Equation> {
-    EQUATIONS_1D.iter().find(|e| e.key == key)
+    EQUATIONS_1D
+        .iter()
+        .chain(EQUATIONS_2D.iter())
+        .find(|e| e.key == key)
 }
 
 /// The stress key that applies to an update.
@@ -282,43 +455,37 @@ pub struct Trace {
     pub steps: Vec<TraceStep>,
 }
 
-/// Records the quantities of [`EQUATIONS_1D`] at the traced steps.
+/// Which steps are traced, and the steps recorded so far: shared by the
+/// 1D and 2D recorders.
 #[derive(Debug, Clone)]
-pub struct TraceObserver {
+pub struct Recorder {
     dt: f64,
     every: usize,
     last: usize,
     only: Option<std::collections::BTreeSet<usize>>,
-    stress_key: &'static str,
     current: Option<TraceStep>,
     /// The steps recorded so far.
     pub steps: Vec<TraceStep>,
 }
 
-impl TraceObserver {
-    /// An observer that records steps 1, 1 + every, … and `last`.
-    pub fn new(dt: f64, every: usize, last: usize, constitutive: Constitutive) -> Self {
+impl Recorder {
+    /// Steps 1, 1 + every, … and `last` of Δt.
+    pub fn new(dt: f64, every: usize, last: usize) -> Self {
         Self {
             dt,
             every: every.max(1),
             last,
             only: None,
-            stress_key: stress_key(constitutive),
             current: None,
             steps: Vec::new(),
         }
     }
 
-    /// An observer that records exactly the steps `only` (those of
-    /// another code's trace).
-    pub fn for_steps(
-        dt: f64,
-        only: std::collections::BTreeSet<usize>,
-        constitutive: Constitutive,
-    ) -> Self {
-        let mut o = Self::new(dt, 1, 0, constitutive);
-        o.only = Some(only);
-        o
+    /// Exactly the steps `only` (those of another code's trace).
+    pub fn for_steps(dt: f64, only: std::collections::BTreeSet<usize>) -> Self {
+        let mut r = Self::new(dt, 1, 0);
+        r.only = Some(only);
+        r
     }
 
     /// Whether step `s` (from 1) is traced.
@@ -326,6 +493,32 @@ impl TraceObserver {
         match &self.only {
             Some(only) => only.contains(&s),
             None => (s - 1).is_multiple_of(self.every) || s == self.last,
+        }
+    }
+
+    /// Starts step `step` (recording it if traced); whether it is.
+    fn begin(&mut self, step: usize) -> bool {
+        self.current = self.traces(step).then(|| TraceStep {
+            step,
+            time: step as f64 * self.dt,
+            equations: BTreeMap::new(),
+        });
+        self.current.is_some()
+    }
+
+    fn recording(&self) -> bool {
+        self.current.is_some()
+    }
+
+    fn put(&mut self, key: &str, values: Vec<f64>) {
+        if let Some(c) = self.current.as_mut() {
+            c.equations.insert(key.to_string(), values);
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(done) = self.current.take() {
+            self.steps.push(done);
         }
     }
 
@@ -338,25 +531,57 @@ impl TraceObserver {
             steps: self.steps,
         }
     }
+}
+
+/// Records the quantities of [`EQUATIONS_1D`] at the traced steps.
+#[derive(Debug, Clone)]
+pub struct TraceObserver {
+    stress_key: &'static str,
+    dt: f64,
+    /// The steps and what was recorded.
+    pub recorder: Recorder,
+}
+
+impl TraceObserver {
+    /// An observer that records steps 1, 1 + every, … and `last`.
+    pub fn new(dt: f64, every: usize, last: usize, constitutive: Constitutive) -> Self {
+        Self {
+            stress_key: stress_key(constitutive),
+            dt,
+            recorder: Recorder::new(dt, every, last),
+        }
+    }
+
+    /// An observer that records exactly the steps `only` (those of
+    /// another code's trace).
+    pub fn for_steps(
+        dt: f64,
+        only: std::collections::BTreeSet<usize>,
+        constitutive: Constitutive,
+    ) -> Self {
+        Self {
+            stress_key: stress_key(constitutive),
+            dt,
+            recorder: Recorder::for_steps(dt, only),
+        }
+    }
+
+    /// The recorded steps as a [`Trace`] with `header`.
+    pub fn into_trace(self, header: BTreeMap<String, serde_json::Value>) -> Trace {
+        self.recorder.into_trace(header)
+    }
 
     fn put(&mut self, key: &str, values: &[f64]) {
-        if let Some(c) = self.current.as_mut() {
-            c.equations.insert(key.to_string(), values.to_vec());
-        }
+        self.recorder.put(key, values.to_vec());
     }
 }
 
 impl StepObserver for TraceObserver {
     fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> Result<()> {
-        let step = sim.diagnostics.steps + 1;
         if point == StepPoint::MassAndLoads {
-            self.current = self.traces(step).then(|| TraceStep {
-                step,
-                time: step as f64 * self.dt,
-                equations: BTreeMap::new(),
-            });
+            self.recorder.begin(sim.diagnostics.steps + 1);
         }
-        if self.current.is_none() {
+        if !self.recorder.recording() {
             return Ok(());
         }
         let ws = sim.workspace();
@@ -419,13 +644,88 @@ impl StepObserver for TraceObserver {
                 self.put("book-4.17", &vol);
                 self.put("book-4.18", &rho);
                 self.put("book-4.14-strain", &eps);
-                if let Some(done) = self.current.take() {
-                    self.steps.push(done);
-                }
+                self.recorder.finish();
             }
         }
         Ok(())
     }
+}
+
+/// Records the quantities of [`EQUATIONS_2D`] at the traced steps of the
+/// 2D step.
+#[derive(Debug, Clone)]
+pub struct TraceObserver2d {
+    /// The steps and what was recorded.
+    pub recorder: Recorder,
+}
+
+fn flat2(v: &[[f64; 2]]) -> Vec<f64> {
+    v.iter().flatten().copied().collect()
+}
+
+fn flat4(v: &[nalgebra::Matrix2<f64>]) -> Vec<f64> {
+    v.iter()
+        .flat_map(|m| [m[(0, 0)], m[(0, 1)], m[(1, 0)], m[(1, 1)]])
+        .collect()
+}
+
+impl StepObserver2d for TraceObserver2d {
+    fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> Result<()> {
+        let r = &mut self.recorder;
+        if point == StepPoint2d::GridMapping {
+            r.begin(sim.steps + 1);
+        }
+        if !r.recording() {
+            return Ok(());
+        }
+        let (ws, p) = (&sim.workspace, &sim.particles);
+        match point {
+            StepPoint2d::GridMapping => {
+                if !ws.gauss_values.is_empty() {
+                    r.put(
+                        "mls-18-21",
+                        ws.gauss_values.iter().flatten().copied().collect(),
+                    );
+                }
+                r.put("mls-22", ws.mass.clone());
+                r.put("mls-23", flat2(&ws.momentum));
+                r.put("mls-26", flat2(&ws.force));
+            }
+            StepPoint2d::NodalUpdate => {
+                r.put("mls-27", flat2(&ws.force));
+                r.put("mls-28", flat2(&ws.momentum));
+            }
+            StepPoint2d::ParticleUpdate => {
+                r.put("mls-29", flat2(&p.velocity));
+                let x: Vec<f64> = p.x.iter().zip(&p.y).flat_map(|(x, y)| [*x, *y]).collect();
+                r.put("mls-30", x);
+                r.put("mls-30-u", flat2(&p.displacement));
+            }
+            StepPoint2d::EndOfStepVelocity => {
+                r.put("mls-32", flat2(&ws.momentum));
+                r.put("mls-33", flat2(&ws.velocity));
+            }
+            StepPoint2d::Deformation => {
+                r.put("mls-35", flat4(&p.deformation));
+                r.put("mls-36", p.volume.clone());
+                r.put("mls-37", p.density.clone());
+                r.put("mls-41", flat4(&p.stress));
+                r.finish();
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The header of a 2D setup's trace, as [`header_1d`].
+pub fn header_2d(setup: &Setup2d) -> Result<BTreeMap<String, serde_json::Value>> {
+    let value = super::setup::to_json(setup)?;
+    let mut header: BTreeMap<String, serde_json::Value> = match value {
+        serde_json::Value::Object(m) => m.into_iter().collect(),
+        _ => BTreeMap::new(),
+    };
+    header.insert("hompm".into(), serde_json::json!(env!("CARGO_PKG_VERSION")));
+    Ok(header)
 }
 
 /// The header of a 1D setup's trace: the setup's settings as `hompm`
@@ -445,13 +745,22 @@ impl Trace {
     /// The trace as CSV: `#` header lines (`# key: value`, values as JSON),
     /// then `step,time,equation,index,value` rows.
     pub fn to_csv(&self) -> String {
+        let table: &[Equation] = if self
+            .steps
+            .iter()
+            .any(|s| s.equations.contains_key("mls-22"))
+        {
+            &EQUATIONS_2D
+        } else {
+            &EQUATIONS_1D
+        };
         let mut out = format!("# schema: {}\n# version: {}\n", self.schema, self.version);
         for (k, v) in &self.header {
             out.push_str(&format!("# {k}: {v}\n"));
         }
         out.push_str("step,time,equation,index,value\n");
         for s in &self.steps {
-            for e in EQUATIONS_1D.iter() {
+            for e in table {
                 if let Some(values) = s.equations.get(e.key) {
                     for (i, v) in values.iter().enumerate() {
                         out.push_str(&format!("{},{:e},{},{i},{v:e}\n", s.step, s.time, e.key));
