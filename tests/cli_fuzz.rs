@@ -256,3 +256,103 @@ proptest! {
         }
     }
 }
+
+/// Pieces of another code's output file for `hompm check`: a header of
+/// known, unknown and repeated column names, rows of boundary values, and
+/// comments, CSV or JSON.
+fn check_file() -> impl Strategy<Value = (String, Vec<String>)> {
+    const NAMES: &[&str] = &[
+        "id", "x0", "x", "u", "v", "stress", "volume", "density", "X", "u", "",
+    ];
+    const CELLS: &[&str] = &[
+        "0", "1", "2", "3", "0.5", "1e-3", "-0", "nan", "inf", "-inf", "abc", "", "1e308", "\"2\"",
+    ];
+    let header = prop::collection::vec(prop::sample::select(NAMES), 0..6);
+    let rows = prop::collection::vec(
+        prop::collection::vec(prop::sample::select(CELLS), 0..7),
+        0..7,
+    );
+    let extra = prop::sample::select(vec![
+        vec![],
+        vec!["--match".to_string(), "id".to_string()],
+        vec!["--match".to_string(), "x0".to_string()],
+        vec!["--columns".to_string(), "x0=X".to_string()],
+        vec!["--columns".to_string(), "nope=X".to_string()],
+        vec!["--columns".to_string(), "u".to_string()],
+        vec!["--rtol".to_string(), "nan".to_string()],
+        vec!["--atol".to_string(), "-1".to_string()],
+        vec!["--json".to_string()],
+    ]);
+    let form = 0..4u8;
+    (header, rows, extra, form).prop_map(|(header, rows, extra, form)| {
+        let text = match form {
+            0 | 1 => {
+                let mut t = if form == 1 { "# cells: 2\n".to_string() } else { String::new() };
+                t.push_str(&header.join(","));
+                t.push('\n');
+                for r in &rows {
+                    t.push_str(&r.join(","));
+                    t.push('\n');
+                }
+                t
+            }
+            2 => {
+                let cols: Vec<String> = header
+                    .iter()
+                    .enumerate()
+                    .map(|(c, h)| {
+                        let values: Vec<&str> = rows.iter().map(|r| r.get(c).copied().unwrap_or("0")).collect();
+                        format!("\"{h}\": [{}]", values.join(","))
+                    })
+                    .collect();
+                format!("{{\"particles\": {{{}}}}}", cols.join(", "))
+            }
+            _ => format!(
+                "{{\"schema\": \"hompm-trace\", \"version\": 1, \"header\": {{}}, \"steps\": [{{\"step\": {}, \"time\": 0, \"equations\": {{\"book-4.13\": [{}]}}}}]}}",
+                rows.len(),
+                rows.first().map(|r| r.join(",")).unwrap_or_default()
+            ),
+        };
+        (text, extra)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 400,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(
+            std::env::var("HOMPM_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(20261124),
+        ),
+        ..ProptestConfig::default()
+    })]
+
+    /// `hompm check` on any input file: no panic; an error on one line
+    /// (exit 2 for an unusable file), or a report whose verdict decides the
+    /// exit code.
+    #[test]
+    fn any_check_input_file_is_an_error_or_a_verdict((text, extra) in check_file()) {
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-check");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("input-{}.txt", std::process::id()));
+        std::fs::write(&path, &text).unwrap();
+        let mut args: Vec<String> = "check vibrating-bar --cells 2 --ppc 2 --steps 1 --input"
+            .split(' ')
+            .map(str::to_string)
+            .collect();
+        args.push(path.display().to_string());
+        args.extend(extra);
+        match cli::run(&args) {
+            Err(e) => {
+                prop_assert!(!cli::one_line(&e.to_string()).contains('\n'));
+                prop_assert!(cli::exit_code(&e) >= 1);
+            }
+            Ok(out) => {
+                prop_assert!(text_numbers_are_finite(&out.stdout), "{text:?}: {}", out.stdout);
+                if let Some(f) = &out.failure {
+                    prop_assert_eq!(cli::exit_code(f), 1, "{}", f);
+                }
+            }
+        }
+    }
+}

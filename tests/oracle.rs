@@ -728,3 +728,76 @@ fn check_names_eq_27_and_the_node_component_for_a_2d_acceleration_defect() {
     assert_eq!(d.component.as_deref(), Some("y"));
     assert_eq!(d.index_kind, "node");
 }
+
+#[test]
+fn cg_with_the_solution_rule_stops_on_the_residual_over_the_iterate() {
+    use hompm::solve::cg::{conjugate_gradient, conjugate_gradient_with, CgVariant};
+    // Unit-density quadratic B-spline mass on 8 spans: ‖x‖ ≫ ‖b‖ for the
+    // gravity right-hand side, so the solution rule stops earlier.
+    let m = hompm::mass::unit_density_mass(8, 2, false).unwrap();
+    let b = hompm::solve::gravity_rhs(&m);
+    let rhs = conjugate_gradient(&m, &b, 1e-10, 1000, CgVariant::Recursive).unwrap();
+    let same =
+        conjugate_gradient_with(&m, &b, 1e-10, ResidualNorm::Rhs, 1000, CgVariant::Recursive)
+            .unwrap();
+    assert_eq!(rhs, same, "the rhs rule is Eq. (4.53) itself");
+    let sol = conjugate_gradient_with(
+        &m,
+        &b,
+        1e-10,
+        ResidualNorm::Solution,
+        1000,
+        CgVariant::Recursive,
+    )
+    .unwrap();
+    let x_norm: f64 = sol.solution.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut ax = vec![0.0; b.len()];
+    m.mul_vec(&sol.solution, &mut ax);
+    let r: f64 = b
+        .iter()
+        .zip(&ax)
+        .map(|(a, c)| (a - c).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    // The recorded ratio is the recursive residual over ‖x‖; it and the
+    // true one agree to rounding here.
+    let last = *sol.residuals.last().unwrap();
+    assert!(
+        last < 1e-10 && (r / x_norm - last).abs() < 1e-12,
+        "{last} {}",
+        r / x_norm
+    );
+    assert!(sol.residuals[sol.residuals.len() - 2] >= 1e-10);
+    assert!(sol.iterations <= rhs.iterations);
+}
+
+#[test]
+fn a_traced_2d_run_is_bit_identical_to_an_untraced_one() {
+    for method in [
+        hompm::scenes::aligned_vibration::AlignedMethod::Bsmpm { degree: 2 },
+        hompm::scenes::aligned_vibration::AlignedMethod::BsmpmMls { degree: 2 },
+    ] {
+        let Setup::TwoD(mut s) = aligned(0.1, 1e7) else {
+            unreachable!()
+        };
+        s.method = method;
+        s.per_side = 3;
+        let plain = hompm::oracle::run::run_2d(&s).unwrap();
+        let (trace, traced) = hompm::oracle::run::trace_2d(&s, 2, None).unwrap();
+        assert_eq!(plain.particles.displacement, traced.particles.displacement);
+        assert_eq!(plain.particles.stress, traced.particles.stress);
+        assert_eq!(plain.particles.deformation, traced.particles.deformation);
+        let steps: Vec<usize> = trace.steps.iter().map(|t| t.step).collect();
+        assert_eq!(steps, [1, 3, 5]);
+        let gauss = trace.steps[0].equations.get("mls-18-21").map(Vec::len);
+        let mls = matches!(
+            method,
+            hompm::scenes::aligned_vibration::AlignedMethod::BsmpmMls { .. }
+        );
+        assert_eq!(
+            gauss,
+            mls.then_some(8 * 8 * 8),
+            "8 values at 8 × 8 Gauss points"
+        );
+    }
+}

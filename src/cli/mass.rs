@@ -40,9 +40,26 @@ pub struct MassArgs {
     /// Relative tolerance of the iterative solvers (at least ε = 2.2e-16).
     #[arg(long, default_value_t = 1e-8, allow_negative_numbers = true)]
     tol: f64,
+    /// What CG and Richardson divide the residual by: rhs (‖b‖, book
+    /// Eq. 4.53 and thesis §7.2) or solution (the iterate, as the thesis
+    /// author's code).
+    #[arg(long, value_enum)]
+    residual: Option<super::setup_args::ResidualArg>,
     /// Print JSON.
     #[arg(long)]
     json: bool,
+}
+
+impl MassArgs {
+    /// The stopping rule's denominator.
+    fn residual_norm(&self) -> crate::solve::richardson::ResidualNorm {
+        match self.residual {
+            Some(super::setup_args::ResidualArg::Solution) => {
+                crate::solve::richardson::ResidualNorm::Solution
+            }
+            _ => crate::solve::richardson::ResidualNorm::Rhs,
+        }
+    }
 }
 
 #[derive(Serialize, Default)]
@@ -80,6 +97,11 @@ fn validate(a: &MassArgs) -> Result<()> {
     if a.spans == 0 {
         return Err(Error::InvalidArgument(
             "--spans must be at least 1, got 0".into(),
+        ));
+    }
+    if a.residual.is_some() && !matches!(a.solve, Some(SolverArg::Cg | SolverArg::Richardson)) {
+        return Err(Error::InvalidArgument(
+            "--residual applies to --solve cg or richardson".into(),
         ));
     }
     if a.solve == Some(SolverArg::Pmg) && a.degree == 0 {
@@ -198,9 +220,14 @@ pub fn mass(a: MassArgs, limits: &Limits) -> Result<Output> {
 fn solve_with(solver: SolverArg, matrix: &SparseMatrix, a: &MassArgs) -> Result<IterativeResult> {
     let f = solve::gravity_rhs(matrix);
     match solver {
-        SolverArg::Cg => {
-            cg::conjugate_gradient(matrix, &f, a.tol, 100_000, cg::CgVariant::Recursive)
-        }
+        SolverArg::Cg => cg::conjugate_gradient_with(
+            matrix,
+            &f,
+            a.tol,
+            a.residual_norm(),
+            100_000,
+            cg::CgVariant::Recursive,
+        ),
         SolverArg::Pmg => pmultigrid::PMultigrid::unit_mass(
             a.spans,
             a.degree,
@@ -209,9 +236,14 @@ fn solve_with(solver: SolverArg, matrix: &SparseMatrix, a: &MassArgs) -> Result<
             pmultigrid::PMultigridOptions::default(),
         )?
         .solve(&f, a.tol, 10_000),
-        SolverArg::Richardson => {
-            richardson::richardson(matrix, &matrix.row_sums(), &f, a.tol, 1_000_000)
-        }
+        SolverArg::Richardson => richardson::richardson_with(
+            matrix,
+            &matrix.row_sums(),
+            &f,
+            a.tol,
+            a.residual_norm(),
+            1_000_000,
+        ),
         SolverArg::Direct => {
             let x = direct::cholesky_solve(matrix, &f)?;
             let mut ax = vec![0.0; x.len()];

@@ -17,9 +17,10 @@
 //! Items: [`OrderFit`], [`fit_order`], [`FieldConvergence`],
 //! [`ConvergenceReport`], [`convergence`].
 
-use super::check::{check, CheckOptions, State};
+use super::check::{check, CheckOptions};
 use super::input::Input;
 use super::setup::Setup;
+use super::state::State;
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;

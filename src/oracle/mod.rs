@@ -11,23 +11,28 @@
 //!   (thesis Eqs. 4.1–4.2, book Eqs. 4.50–4.52, MLS paper Eqs. 38–42);
 //! - [`run`]: a setup run under the stability monitor, with an observer
 //!   inside each step;
+//! - [`equations`]: the traced quantities' keys and citations;
 //! - [`trace`]: the quantities of each numbered equation of the 1D step
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
 //! - [`input`]: the other code's particles or trace, in CSV or JSON;
+//! - [`state`]: hompm's particles as the check's table, and the matching
+//!   of the other code's particles;
 //! - [`check`](mod@check): the comparison, field by field and equation by
 //!   equation, with a verdict;
 //! - [`convergence`](mod@convergence): observed orders over resolutions.
 //!
-//! Items: [`setup`], [`exact`], [`run`], [`trace`], [`input`],
+//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`state`],
 //! [`check`](mod@check), [`convergence`](mod@convergence),
 //! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
 
 pub mod check;
 pub mod convergence;
+pub mod equations;
 pub mod exact;
 pub mod input;
 pub mod run;
 pub mod setup;
+pub mod state;
 pub mod trace;
 
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};

@@ -13,8 +13,8 @@
 //! Items: [`run_1d`], [`run_2d`], [`run_2d_observed`], [`Run1d`],
 //! [`trace_1d`], [`trace_2d`], [`reference`].
 
-use super::check::{state_1d, state_2d, State};
 use super::setup::{Setup, Setup1d, Setup2d};
+use super::state::{state_1d, state_2d, State};
 use super::trace::{header_1d, header_2d, Recorder, Trace, TraceObserver, TraceObserver2d};
 use crate::error::{DivergenceCause, Error, Result};
 use crate::mpm::monitor::{StabilityMonitor, Warning};

@@ -10,9 +10,10 @@
 //! [`CgVariant::TrueResidual`] (r = b − A x recomputed each step) and
 //! [`CgVariant::PolakRibiere`] (β = r_{k+1}ᵀ(r_{k+1} − r_k)/r_kᵀr_k).
 //!
-//! Items: [`CgVariant`], [`conjugate_gradient`],
+//! Items: [`CgVariant`], [`conjugate_gradient`], [`conjugate_gradient_with`],
 //! [`conjugate_gradient_observed`].
 
+use super::richardson::ResidualNorm;
 use super::{check_rhs, dot, norm, IterativeResult, LinearOperator};
 use crate::error::{Error, Result};
 
@@ -40,12 +41,41 @@ pub fn conjugate_gradient(
     conjugate_gradient_observed(op, b, tol, max_iter, variant, &mut |_, _| {})
 }
 
+/// [`conjugate_gradient`] with the residual divided by ‖r_0‖ = ‖b‖
+/// ([`ResidualNorm::Rhs`], Eq. 4.53) or by the iterate's ‖x_k‖
+/// ([`ResidualNorm::Solution`], the rule of the thesis author's Richardson
+/// code, offered so that another code's CG can be matched); both stop at
+/// the first ratio below `tol`.
+pub fn conjugate_gradient_with(
+    op: &dyn LinearOperator,
+    b: &[f64],
+    tol: f64,
+    residual: ResidualNorm,
+    max_iter: usize,
+    variant: CgVariant,
+) -> Result<IterativeResult> {
+    cg(op, b, tol, residual, max_iter, variant, &mut |_, _| {})
+}
+
 /// [`conjugate_gradient`] that also hands every iterate x_k (k = 0, 1, …) to
 /// `observe` — used to test the error bound of book Eq. (4.57).
 pub fn conjugate_gradient_observed(
     op: &dyn LinearOperator,
     b: &[f64],
     tol: f64,
+    max_iter: usize,
+    variant: CgVariant,
+    observe: &mut dyn FnMut(usize, &[f64]),
+) -> Result<IterativeResult> {
+    cg(op, b, tol, ResidualNorm::Rhs, max_iter, variant, observe)
+}
+
+/// The CG iteration of the public functions.
+fn cg(
+    op: &dyn LinearOperator,
+    b: &[f64],
+    tol: f64,
+    residual: ResidualNorm,
     max_iter: usize,
     variant: CgVariant,
     observe: &mut dyn FnMut(usize, &[f64]),
@@ -76,7 +106,10 @@ pub fn conjugate_gradient_observed(
         update_residual(variant, op, b, &x, alpha, &mut ap, &mut r);
         observe(k, &x);
         let rr_new = dot(&r, &r);
-        let rel = rr_new.sqrt() / r0;
+        let rel = match residual {
+            ResidualNorm::Rhs => rr_new.sqrt() / r0,
+            ResidualNorm::Solution => rr_new.sqrt() / norm(&x),
+        };
         residuals.push(rel);
         if !rel.is_finite() {
             return Err(Error::BlowUp(format!(
