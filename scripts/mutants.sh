@@ -27,10 +27,10 @@ declare -A TESTS=(
   [quadrature]="properties_quadrature"
   [lagrange]="properties_lagrange spec_ddmpm"
   [mass]="properties_mass golden_book golden_tables spec_musl_step"
-  [solve]="properties_mass spec_richardson spec_pmultigrid golden_book"
+  [solve]="properties_mass spec_richardson spec_pmultigrid golden_book oracle"
   [reconstruct]="properties_reconstruct golden_tls_example spec_mpm2d allocations"
-  [mpm]="spec_musl_step spec_ddmpm properties_mpm golden_thesis golden_tls_conservation stability allocations"
-  [mpm2d]="spec_mpm2d allocations"
+  [mpm]="spec_musl_step spec_ddmpm properties_mpm golden_thesis golden_tls_conservation stability allocations oracle"
+  [mpm2d]="spec_mpm2d allocations oracle"
 )
 # Extra cargo-mutants options, e.g. EXTRA="--shard 1/4" or EXTRA="--re fit";
 # OUT names the output directory under target/mutants (default: the module).

@@ -155,7 +155,8 @@ fn reproduce_prints_the_summary_line() {
     assert_eq!(code, 0);
     assert!(out
         .lines()
-        .any(|l| l.ends_with("published numbers reproduced")));
+        .any(|l| l.contains("published numbers reproduced;")
+            && l.ends_with("to their printed digits")));
 }
 
 #[test]

@@ -78,3 +78,37 @@ fn computed_rows_are_placed_by_label_and_unknown_labels_are_errors() {
         ));
     }
 }
+
+/// Issue #25: a number is reproduced to its digits when the computed value,
+/// rounded to the published value's printed significant digits, equals it.
+#[test]
+fn printed_digits_are_counted_from_the_transcription_and_compared_after_rounding() {
+    use hompm::tables::{equal_to_digits, significant_digits, Published};
+    for (literal, digits) in [
+        ("4.9665e-06", 5),
+        ("0.27", 2),
+        ("450", 3),
+        ("-0.0012", 2),
+        ("1.0200e-5", 5),
+        ("0", 1),
+        ("1E+3", 1),
+    ] {
+        assert_eq!(significant_digits(literal), digits, "{literal}");
+    }
+    assert!(equal_to_digits(6.4964e-8, 6.496405e-8, 5));
+    assert!(!equal_to_digits(1.0137e-9, 1.013860e-9, 5));
+    assert!(equal_to_digits(1.0137e-9, 1.01365e-9 + 1e-24, 5));
+    assert!(!equal_to_digits(450.0, 451.0, 3));
+    assert!(!equal_to_digits(0.27, f64::NAN, 2));
+    let json = include_str!("../golden/published/thesis-7.1.json");
+    let p = Published::parse("thesis-7.1", json).unwrap();
+    assert!(
+        p.digits.iter().flatten().all(|d| *d == Some(5)),
+        "{:?}",
+        p.digits
+    );
+    let blank = json.replacen("4.9665e-06", "null", 1);
+    let q = Published::parse("thesis-7.1", &blank).unwrap();
+    assert_eq!(q.digits[0][0], None);
+    assert_eq!(q.values[0][0], None);
+}

@@ -185,12 +185,16 @@ fn summary(built: &report::ReportJson, out: &Path) -> String {
     let mut s = String::new();
     for r in &built.tables {
         let (rep, total) = r.counts();
-        s.push_str(&format!("{:<20} {rep:>4} of {total:>4} reproduced\n", r.id));
+        let (dig, applicable) = r.digit_counts();
+        s.push_str(&format!(
+            "{:<20} {rep:>4} of {total:>4} reproduced, {dig:>4} of {applicable:>4} to their digits\n",
+            r.id
+        ));
     }
     s.push_str(&format!("report written to {}\n", out.display()));
     s.push_str(&format!(
-        "{} of {} published numbers reproduced\n",
-        built.reproduced, built.published_in_computed_tables
+        "{} of {} published numbers reproduced; {} of {} to their printed digits\n",
+        built.reproduced, built.published_in_computed_tables, built.to_digits, built.digits_apply
     ));
     s
 }

@@ -21,8 +21,9 @@
 //! [`ToleranceRules`], [`Tolerance`], [`Status`], [`Entry`],
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
-//! [`effective_tolerance`],
-//! [`compare`], [`book`], [`facts`], [`mls`], [`thesis`], [`tls`].
+//! [`effective_tolerance`], [`significant_digits`], [`equal_to_digits`],
+//! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`thesis`],
+//! [`tls`].
 
 pub mod book;
 pub mod facts;
@@ -66,6 +67,78 @@ pub struct Published {
     /// The tolerance of each number, by label (docs/conventions.md,
     /// "Tolerances of the table registry").
     pub tolerance: ToleranceRules,
+    /// The significant digits each value is printed with, read from the
+    /// JSON text (`None` where the table is blank): `4.9665e-06` has 5,
+    /// `0.27` has 2, `450` has 3.
+    #[serde(skip)]
+    pub digits: Vec<Vec<Option<u32>>>,
+}
+
+/// The significant digits of a JSON number as written: the digits of its
+/// mantissa without leading zeros (at least 1).
+pub fn significant_digits(literal: &str) -> u32 {
+    let mantissa = literal
+        .trim()
+        .trim_start_matches('-')
+        .split(['e', 'E'])
+        .next()
+        .unwrap_or("");
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let significant = digits.trim_start_matches('0');
+    significant.len().max(1) as u32
+}
+
+/// The literal tokens of the `"values"` array of a published-table JSON
+/// text, row by row (`None` for `null`).
+fn value_literals(json: &str) -> Option<Vec<Vec<Option<u32>>>> {
+    let start = json.find("\"values\"")?;
+    let rest = &json[start + "\"values\"".len()..];
+    let open = rest.find('[')?;
+    let mut depth = 0usize;
+    let mut rows: Vec<Vec<Option<u32>>> = Vec::new();
+    let mut token = String::new();
+    let flush = |token: &mut String, rows: &mut Vec<Vec<Option<u32>>>| {
+        let t = token.trim();
+        if !t.is_empty() {
+            let cell = (t != "null").then(|| significant_digits(t));
+            if let Some(row) = rows.last_mut() {
+                row.push(cell);
+            }
+        }
+        token.clear();
+    };
+    for c in rest[open..].chars() {
+        match c {
+            '[' => {
+                depth += 1;
+                if depth == 2 {
+                    rows.push(Vec::new());
+                }
+            }
+            ']' => {
+                flush(&mut token, &mut rows);
+                depth -= 1;
+                if depth == 0 {
+                    return Some(rows);
+                }
+            }
+            ',' => flush(&mut token, &mut rows),
+            c if !c.is_whitespace() => token.push(c),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Whether `computed`, rounded to `digits` significant digits, equals
+/// `published` as printed: both written with `digits` significant digits
+/// in scientific notation and compared as text.
+pub fn equal_to_digits(published: f64, computed: f64, digits: u32) -> bool {
+    if !computed.is_finite() {
+        return false;
+    }
+    let d = digits.max(1) as usize - 1;
+    format!("{published:.d$e}") == format!("{computed:.d$e}")
 }
 
 /// The kinds of tolerance a published number can have, as written in
@@ -175,12 +248,15 @@ impl ToleranceRules {
 impl Published {
     /// Parses and checks the shape of a published-table JSON text.
     pub fn parse(id: &str, json: &str) -> Result<Self> {
-        let p: Published = serde_json::from_str(json).map_err(|e| Error::Published {
+        let mut p: Published = serde_json::from_str(json).map_err(|e| Error::Published {
             id: id.into(),
             message: e.to_string(),
         })?;
+        p.digits = value_literals(json).unwrap_or_default();
         if p.values.len() != p.row_labels.len()
             || p.values.iter().any(|r| r.len() != p.col_labels.len())
+            || p.digits.len() != p.values.len()
+            || p.digits.iter().any(|r| r.len() != p.col_labels.len())
         {
             return Err(Error::Published {
                 id: id.into(),
@@ -369,6 +445,11 @@ pub struct TableReport {
     pub deviation: Vec<Vec<Option<f64>>>,
     /// Status per entry.
     pub status: Vec<Vec<Status>>,
+    /// Whether each computed value, rounded to the published value's
+    /// printed significant digits, equals it; `None` where nothing is
+    /// compared or the kind has no digits to match (bounds, timings,
+    /// machine-precision noise; [`digits_apply`]).
+    pub to_digits: Vec<Vec<Option<bool>>>,
     /// Tolerance per entry.
     pub tolerance: Vec<Vec<Tolerance>>,
     /// Findings.
@@ -396,6 +477,20 @@ impl TableReport {
         (rep, total)
     }
 
+    /// (reproduced to their printed digits, published numbers the digits
+    /// status applies to).
+    pub fn digit_counts(&self) -> (usize, usize) {
+        let cells = self.to_digits.iter().flatten().flatten();
+        let applicable = self
+            .to_digits
+            .iter()
+            .zip(&self.published)
+            .flat_map(|(d, p)| d.iter().zip(p))
+            .filter(|(d, p)| p.is_some() && d.is_some())
+            .count();
+        (cells.filter(|&&b| b).count(), applicable)
+    }
+
     /// Every cell that is published or computed, in row-major order: the
     /// one walk over a table that the text rendering here and the report's
     /// markdown share, so that both show the same cells and status words.
@@ -417,6 +512,12 @@ impl TableReport {
                         computed: self.computed[i][j],
                         deviation: self.deviation[i][j],
                         status: self.status[i][j],
+                        to_digits: self
+                            .to_digits
+                            .get(i)
+                            .and_then(|r| r.get(j))
+                            .copied()
+                            .flatten(),
                     })
             })
     }
@@ -441,8 +542,8 @@ impl TableReport {
             .map(|c| c.chars().count())
             .fold(12, usize::max);
         s.push_str(&format!(
-            "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
-            "row", "column", "published", "computed", "deviation", "status"
+            "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {:<12} {}\n",
+            "row", "column", "published", "computed", "deviation", "status", "to digits"
         ));
         let fmt = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.6e}"));
         for e in self.entries() {
@@ -450,18 +551,20 @@ impl TableReport {
                 .deviation
                 .map_or("—".to_string(), |d| format!("{:+.3}%", 100.0 * d));
             s.push_str(&format!(
-                "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {}\n",
+                "{:<24} {:<cw$} {:>14} {:>14} {:>11}  {:<12} {}\n",
                 e.row,
                 e.column,
                 fmt(e.published),
                 fmt(e.computed),
                 dev,
-                e.status_word()
+                e.status_word(),
+                e.digits_word()
             ));
         }
         let (rep, total) = self.counts();
+        let (dig, applicable) = self.digit_counts();
         s.push_str(&format!(
-            "\n{rep} of {total} published numbers reproduced\n"
+            "\n{rep} of {total} published numbers reproduced; {dig} of {applicable} to their printed digits\n"
         ));
         for n in &self.notes {
             s.push_str(&format!("note: {n}\n"));
@@ -485,6 +588,8 @@ pub struct Entry<'a> {
     pub deviation: Option<f64>,
     /// The status.
     pub status: Status,
+    /// Reproduced to the printed digits (`None`: does not apply).
+    pub to_digits: Option<bool>,
 }
 
 impl Entry<'_> {
@@ -496,6 +601,15 @@ impl Entry<'_> {
             (_, Status::Reproduced) => "reproduced",
             (_, Status::Deviates) => "deviates",
             (_, Status::NotComputed) => "not computed",
+        }
+    }
+
+    /// "yes", "no", or "—" where the digits status does not apply.
+    pub fn digits_word(&self) -> &'static str {
+        match self.to_digits {
+            Some(true) => "yes",
+            Some(false) => "no",
+            None => "—",
         }
     }
 }
@@ -571,6 +685,17 @@ pub fn effective_tolerance(kind: Tolerance, published: f64) -> Tolerance {
     }
 }
 
+/// Whether a number of this kind is judged to its printed digits: not a
+/// bound (`AtLeast`, `AtMost`), not a wall-time ratio (`Timing`), and not
+/// rounding noise (`MachinePrecision`), whose digits no code reproduces
+/// (docs/conventions.md, "To the printed digits").
+pub fn digits_apply(kind: Tolerance) -> bool {
+    !matches!(
+        kind,
+        Tolerance::AtLeast | Tolerance::AtMost | Tolerance::Timing | Tolerance::MachinePrecision
+    )
+}
+
 /// Places computed rows by their labels: an unknown or repeated label, or
 /// a row of the wrong length, is an error; a row not returned stays `None`.
 fn rows_by_label(
@@ -630,15 +755,20 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         .collect();
     let mut deviation = vec![vec![None; cols]; rows];
     let mut status = vec![vec![Status::NotComputed; cols]; rows];
+    let mut to_digits = vec![vec![None; cols]; rows];
     for r in 0..rows {
         for c in 0..cols {
             if let (Some(p), Some(v)) = (published.values[r][c], values[r][c]) {
+                let kind = effective_tolerance(tolerance[r][c], p);
                 deviation[r][c] = Some(if p != 0.0 { (v - p) / p.abs() } else { v - p });
-                status[r][c] = if effective_tolerance(tolerance[r][c], p).accepts(p, v) {
+                status[r][c] = if kind.accepts(p, v) {
                     Status::Reproduced
                 } else {
                     Status::Deviates
                 };
+                if let (true, Some(d)) = (digits_apply(kind), published.digits[r][c]) {
+                    to_digits[r][c] = Some(equal_to_digits(p, v, d));
+                }
             }
         }
     }
@@ -655,6 +785,7 @@ pub fn compare(spec: &TableSpec, published: &Published, computed: Computed) -> R
         computed: values,
         deviation,
         status,
+        to_digits,
         tolerance,
         notes: computed.notes,
         study: computed.study,
