@@ -55,3 +55,36 @@ fn thesis_7_spline_based() {
     check("thesis-7.1");
     check("thesis-7.2");
 }
+
+/// Issue #25: under the conventions of the thesis author's code (large-
+/// strain update, Richardson stopped on ‖P − M^C v‖/‖v‖), Table 7.1's
+/// fifteen numbers reproduce to every printed digit; read literally
+/// (small strain, ‖P‖), six of them miss their last digit.
+#[test]
+fn thesis_table_7_1_reproduces_to_every_printed_digit_under_the_authors_conventions() {
+    let spec = tables::find("thesis-7.1").unwrap();
+    let report = tables::run(&spec, &RunOptions::default()).unwrap();
+    assert_eq!(report.digit_counts(), (15, 15), "{}", report.render_text());
+    let literal = report
+        .notes
+        .iter()
+        .find(|n| n.starts_with("text-literal conventions"))
+        .expect("the text-literal values are listed");
+    assert!(
+        literal.contains("9 of 15 to the printed digits"),
+        "{literal}"
+    );
+    assert!(spec
+        .setup
+        .contains("‖P − M^C v‖/‖v‖ ≥ 1e-9 (the author's code)"));
+    let conventions = tables::find("thesis-5.1").unwrap().setup;
+    assert!(
+        conventions.contains("MPM_1D_B_spline.m") && conventions.contains("flag.deformation = 1")
+    );
+    // The other thesis RMS tables keep every digit under these conventions.
+    for id in ["thesis-5.1", "thesis-6.2", "thesis-7.2"] {
+        let r = tables::run(&tables::find(id).unwrap(), &RunOptions::default()).unwrap();
+        let (digits, applicable) = r.digit_counts();
+        assert_eq!(digits, applicable, "{id}: {}", r.render_text());
+    }
+}

@@ -9,11 +9,11 @@
 //!
 //! Items: [`appendix_a1`], [`tables`].
 
-use super::{Computed, LabelledRow, RunOptions, TableSpec};
+use super::{equal_to_digits, Computed, LabelledRow, Published, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mass::{assemble, row_sum_lumping};
 use crate::mpm::mapping::{ConsistentSolver, MassMatrix};
-use crate::studies::thesis::{self, bar_rms, bar_rms_with, ThesisVariant};
+use crate::studies::thesis::{self, bar_rms, bar_rms_with, ThesisConventions, ThesisVariant};
 use faer::mat;
 
 /// Thesis Appendix A.1 (M = Σ T_eᵀ M_e T_e) and A.2 (M^L_ii = Σ_j M_ij).
@@ -65,8 +65,8 @@ fn level_label(variant: ThesisVariant, cells: usize) -> String {
     }
 }
 
-fn rms_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
-    let errors = thesis::rms_grid(variant, &LEVELS, &PPCS)?;
+fn rms_grid(variant: ThesisVariant, conventions: ThesisConventions) -> Result<Vec<LabelledRow>> {
+    let errors = thesis::rms_grid(variant, &LEVELS, &PPCS, conventions)?;
     Ok(LEVELS
         .iter()
         .zip(errors)
@@ -75,13 +75,59 @@ fn rms_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
 }
 
 /// Orders log2(e(h)/e(h/2)) at 4 PPC, each labelled by its finer level.
-fn order_grid(variant: ThesisVariant) -> Result<Vec<LabelledRow>> {
-    let orders = thesis::orders(variant, &LEVELS, 4)?;
+fn order_grid(variant: ThesisVariant, conventions: ThesisConventions) -> Result<Vec<LabelledRow>> {
+    let orders = thesis::orders(variant, &LEVELS, 4, conventions)?;
     Ok(LEVELS[1..]
         .iter()
         .zip(orders)
         .map(|(&c, order)| Computed::row(level_label(variant, c), [order]))
         .collect())
+}
+
+/// The note that lists the same table under the text read literally
+/// (small strain, ‖P‖), with how many of its values reach the printed
+/// digits: the variant the tables' conventions replace.
+fn text_literal_note(id: &str, json: &str, rows: &[LabelledRow]) -> Result<String> {
+    let published = Published::parse(id, json)?;
+    let (mut to_digits, mut total) = (0, 0);
+    let mut cells = Vec::new();
+    for (label, values) in rows {
+        let Some(r) = published.row_labels.iter().position(|l| l == label) else {
+            continue;
+        };
+        for (c, v) in values.iter().enumerate() {
+            if let (Some(v), Some(p), Some(d)) = (v, published.values[r][c], published.digits[r][c])
+            {
+                total += 1;
+                to_digits += usize::from(equal_to_digits(p, *v, d));
+                cells.push(format!("{label} / {}: {v:.5e}", published.col_labels[c]));
+            }
+        }
+    }
+    Ok(format!(
+        "text-literal conventions (small-strain update, book Eq. 4.15; Richardson to ‖P − M^C v‖/‖P‖ ≤ 1e-9): \
+         {to_digits} of {total} to the printed digits; {}",
+        cells.join("; ")
+    ))
+}
+
+/// A thesis table under the author's conventions, with its text-literal
+/// values in a note.
+fn with_text_literal(
+    id: &str,
+    json: &str,
+    grid: fn(ThesisVariant, ThesisConventions) -> Result<Vec<LabelledRow>>,
+    variant: ThesisVariant,
+    mut notes: Vec<String>,
+) -> Result<Computed> {
+    let rows = grid(variant, ThesisConventions::AuthorsCode)?;
+    let literal = grid(variant, ThesisConventions::TextLiteral)?;
+    notes.push(text_literal_note(id, json, &literal)?);
+    Ok(Computed {
+        rows,
+        notes,
+        ..Default::default()
+    })
 }
 
 /// A registered thesis table; each names its own computation, so a new id
@@ -100,100 +146,108 @@ fn registered(
     }
 }
 
+const T51: &str = include_str!("../../golden/published/thesis-5.1.json");
+const T52: &str = include_str!("../../golden/published/thesis-5.2.json");
+const T61: &str = include_str!("../../golden/published/thesis-6.1.json");
+const T62: &str = include_str!("../../golden/published/thesis-6.2.json");
+const T71: &str = include_str!("../../golden/published/thesis-7.1.json");
+const T72: &str = include_str!("../../golden/published/thesis-7.2.json");
+
 fn linear_lagrange_rms(_: &RunOptions) -> Result<Computed> {
-    Ok(Computed {
-        rows: rms_grid(ThesisVariant::LinearLagrange)?,
-        notes: vec![],
-        ..Default::default()
-    })
+    with_text_literal(
+        "thesis-5.1",
+        T51,
+        rms_grid,
+        ThesisVariant::LinearLagrange,
+        vec![],
+    )
 }
 
 fn bspline_rms(_: &RunOptions) -> Result<Computed> {
-    Ok(Computed {
-        rows: rms_grid(ThesisVariant::BSpline)?,
-        notes: vec![],
-        ..Default::default()
-    })
+    with_text_literal("thesis-6.2", T62, rms_grid, ThesisVariant::BSpline, vec![])
 }
 
 /// Thesis Table 7.1, with the finest level re-solved four ways in the notes.
 fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
     let mut notes = Vec::new();
     if !o.quick {
-        let direct = bar_rms_with(
-            ThesisVariant::SplineBased,
-            64,
-            4,
-            Some(MassMatrix::Consistent(ConsistentSolver::Cholesky)),
-        )?;
-        let tight = bar_rms_with(
-            ThesisVariant::SplineBased,
-            64,
-            4,
-            Some(MassMatrix::Consistent(ConsistentSolver::richardson(1e-13))),
-        )?;
-        let loose = bar_rms_with(
-            ThesisVariant::SplineBased,
-            64,
-            4,
-            Some(MassMatrix::Consistent(ConsistentSolver::richardson(1e-6))),
-        )?;
-        let lumped = bar_rms_with(ThesisVariant::SplineBased, 64, 4, Some(MassMatrix::Lumped))?;
+        let finest = |mass| {
+            bar_rms_with(
+                ThesisVariant::SplineBased,
+                64,
+                4,
+                Some(mass),
+                ThesisConventions::AuthorsCode,
+            )
+        };
+        let direct = finest(MassMatrix::Consistent(ConsistentSolver::Cholesky))?;
+        let tight = finest(MassMatrix::Consistent(ConsistentSolver::richardson(1e-13)))?;
+        let loose = finest(MassMatrix::Consistent(ConsistentSolver::richardson(1e-6)))?;
+        let lumped = finest(MassMatrix::Lumped)?;
         notes.push(format!(
                         "finest level (64 spans, 4 PPC) against the velocity solve: Richardson 1e-9 (table) {:.4e}; \
                          Richardson 1e-13 {tight:.4e}; Cholesky {direct:.4e}; Richardson 1e-6 {loose:.4e}; lumped mass {lumped:.4e}",
                         bar_rms(ThesisVariant::SplineBased, 64, 4)?
                     ));
     }
-    Ok(Computed {
-        rows: rms_grid(ThesisVariant::SplineBased)?,
+    with_text_literal(
+        "thesis-7.1",
+        T71,
+        rms_grid,
+        ThesisVariant::SplineBased,
         notes,
-        ..Default::default()
-    })
+    )
 }
 
 fn linear_lagrange_orders(_: &RunOptions) -> Result<Computed> {
-    Ok(Computed {
-        rows: order_grid(ThesisVariant::LinearLagrange)?,
-        notes: vec![],
-        ..Default::default()
-    })
+    with_text_literal(
+        "thesis-5.2",
+        T52,
+        order_grid,
+        ThesisVariant::LinearLagrange,
+        vec![],
+    )
 }
 
 fn bspline_orders(_: &RunOptions) -> Result<Computed> {
-    Ok(Computed {
-        rows: order_grid(ThesisVariant::BSpline)?,
-        notes: vec![],
-        ..Default::default()
-    })
+    with_text_literal(
+        "thesis-6.1",
+        T61,
+        order_grid,
+        ThesisVariant::BSpline,
+        vec![],
+    )
 }
 
 fn spline_based_orders(_: &RunOptions) -> Result<Computed> {
-    Ok(Computed {
-        rows: order_grid(ThesisVariant::SplineBased)?,
-        notes: vec![],
-        ..Default::default()
-    })
+    with_text_literal(
+        "thesis-7.2",
+        T72,
+        order_grid,
+        ThesisVariant::SplineBased,
+        vec![],
+    )
 }
 
 /// Thesis Tables 5.1, 5.2, 6.1, 6.2, 7.1, 7.2.
 pub fn tables() -> Vec<TableSpec> {
     vec![
-        registered("thesis-5.1", include_str!("../../golden/published/thesis-5.1.json"),
-            "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), small-strain update, both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic displacement at the initial positions, t = 1999·Δt.", linear_lagrange_rms),
-        registered("thesis-5.2", include_str!("../../golden/published/thesis-5.2.json"),
+        registered("thesis-5.1", T51,
+            "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic (linear) displacement at the initial positions, t = 1999·Δt. Conventions of the thesis author's code (MPM_1D_B_spline.m, 2016; public as roeltielen24/BSpline_MPM_1D; run under Octave by scripts/author_code_check.sh): its driver's default flag.deformation = 1, the large-strain update σ ← σ + (E − σ)Δε (book Eq. 4.16), and, with a consistent mass, Richardson iterated while ‖P − M^C v‖/‖v‖ ≥ 1e-9; the text-literal values are in the note.", linear_lagrange_rms),
+        registered("thesis-5.2", T52,
             "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-5.1.", linear_lagrange_orders),
-        registered("thesis-6.1", include_str!("../../golden/published/thesis-6.1.json"),
+        registered("thesis-6.1", T61,
             "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-6.2.", bspline_orders),
-        registered("thesis-6.2", include_str!("../../golden/published/thesis-6.2.json"),
-            "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup as thesis-5.1.", bspline_rms),
-        registered("thesis-7.1", include_str!("../../golden/published/thesis-7.1.json"),
+        registered("thesis-6.2", T62,
+            "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup and conventions as thesis-5.1.", bspline_rms),
+        registered("thesis-7.1", T71,
             "Spline-based MPM: quadratic B-splines; internal force, density and velocity from not-a-knot \
              cubic splines through the particle values at 2 Gauss points per half knot span (deactivated or \
              redefined outside [x_1 − V_1/2, x_N + V_N/2]); consistent mass from the reconstructed density \
-             with the same rule; M^C v = P solved in full by Richardson from P/M^L to ‖P − M^C v‖/‖P‖ ≤ 1e-9, \
-             then boundary velocities zeroed; setup as thesis-5.1.", spline_based_rms),
-        registered("thesis-7.2", include_str!("../../golden/published/thesis-7.2.json"),
+             with the same rule; M^C v = P solved in full by Richardson from P/M^L while \
+             ‖P − M^C v‖/‖v‖ ≥ 1e-9 (the author's code), then boundary velocities zeroed; setup and \
+             conventions as thesis-5.1.", spline_based_rms),
+        registered("thesis-7.2", T72,
             "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-7.1.", spline_based_orders),
     ]
 }
