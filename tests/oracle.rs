@@ -474,6 +474,22 @@ fn richardson_with_the_solution_rule_divides_the_residual_by_the_iterate() {
     assert!(sol.residuals[sol.residuals.len() - 2] >= 1e-9);
     let (_, over_p) = residual_over(&rhs.solution);
     assert!(over_p <= 1e-9);
+    // At a tolerance equal to the first iterate's ratio, the ‖P‖ rule
+    // (≤) stops there and the ‖v‖ rule (<, as the author's `while … >= tol`)
+    // does not.
+    let v0: Vec<f64> = p.iter().zip(&lumped).map(|(a, l)| a / l).collect();
+    let mut mv = vec![0.0; 3];
+    m.mul_vec(&v0, &mut mv);
+    let r: Vec<f64> = p.iter().zip(&mv).map(|(a, b)| a - b).collect();
+    let (rn, vn, pn) = (
+        hompm::solve::norm(&r),
+        hompm::solve::norm(&v0),
+        hompm::solve::norm(&p),
+    );
+    let at_rhs = richardson_with(&m, &lumped, &p, rn / pn, ResidualNorm::Rhs, 1000).unwrap();
+    assert_eq!(at_rhs.iterations, 0);
+    let at_sol = richardson_with(&m, &lumped, &p, rn / vn, ResidualNorm::Solution, 1000).unwrap();
+    assert!(at_sol.iterations >= 1, "{}", at_sol.iterations);
 }
 
 #[test]
@@ -731,44 +747,58 @@ fn check_names_eq_27_and_the_node_component_for_a_2d_acceleration_defect() {
 
 #[test]
 fn cg_with_the_solution_rule_stops_on_the_residual_over_the_iterate() {
-    use hompm::solve::cg::{conjugate_gradient, conjugate_gradient_with, CgVariant};
-    // Unit-density quadratic B-spline mass on 8 spans: ‖x‖ ≫ ‖b‖ for the
-    // gravity right-hand side, so the solution rule stops earlier.
-    let m = hompm::mass::unit_density_mass(8, 2, false).unwrap();
+    use hompm::solve::cg::{conjugate_gradient_observed, conjugate_gradient_with, CgVariant};
+    // Quartic B-spline mass on 64 spans: CG converges gradually, so the
+    // two rules stop at different iterations of the same iterates.
+    let m = hompm::mass::unit_density_mass(64, 4, false).unwrap();
     let b = hompm::solve::gravity_rhs(&m);
-    let rhs = conjugate_gradient(&m, &b, 1e-10, 1000, CgVariant::Recursive).unwrap();
-    let same =
-        conjugate_gradient_with(&m, &b, 1e-10, ResidualNorm::Rhs, 1000, CgVariant::Recursive)
-            .unwrap();
-    assert_eq!(rhs, same, "the rhs rule is Eq. (4.53) itself");
-    let sol = conjugate_gradient_with(
+    let r0: f64 = b.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut x_norms = Vec::new();
+    let rhs =
+        conjugate_gradient_observed(&m, &b, 1e-14, 10_000, CgVariant::Recursive, &mut |_, x| {
+            x_norms.push(x.iter().map(|v| v * v).sum::<f64>().sqrt())
+        })
+        .unwrap();
+    let same = conjugate_gradient_with(
         &m,
         &b,
-        1e-10,
-        ResidualNorm::Solution,
-        1000,
+        1e-14,
+        ResidualNorm::Rhs,
+        10_000,
         CgVariant::Recursive,
     )
     .unwrap();
-    let x_norm: f64 = sol.solution.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let mut ax = vec![0.0; b.len()];
-    m.mul_vec(&sol.solution, &mut ax);
-    let r: f64 = b
-        .iter()
-        .zip(&ax)
-        .map(|(a, c)| (a - c).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    // The recorded ratio is the recursive residual over ‖x‖; it and the
-    // true one agree to rounding here.
-    let last = *sol.residuals.last().unwrap();
-    assert!(
-        last < 1e-10 && (r / x_norm - last).abs() < 1e-12,
-        "{last} {}",
-        r / x_norm
+    assert_eq!(rhs, same, "the rhs rule is Eq. (4.53) itself");
+    let tol = 1e-10;
+    let sol = conjugate_gradient_with(
+        &m,
+        &b,
+        tol,
+        ResidualNorm::Solution,
+        10_000,
+        CgVariant::Recursive,
+    )
+    .unwrap();
+    // The same iterates, each residual divided by ‖x_k‖ instead of ‖r_0‖.
+    for k in 1..=sol.iterations {
+        let expected = rhs.residuals[k] * r0 / x_norms[k];
+        assert!(
+            (sol.residuals[k] - expected).abs() <= 1e-12 * expected,
+            "iteration {k}: {} vs {expected}",
+            sol.residuals[k]
+        );
+    }
+    let first_below = (1..rhs.residuals.len())
+        .find(|&k| rhs.residuals[k] * r0 / x_norms[k] < tol)
+        .unwrap();
+    assert_eq!(sol.iterations, first_below);
+    let rhs_stop = (1..rhs.residuals.len())
+        .find(|&k| rhs.residuals[k] < tol)
+        .unwrap();
+    assert_ne!(
+        sol.iterations, rhs_stop,
+        "the rules stop at different iterations"
     );
-    assert!(sol.residuals[sol.residuals.len() - 2] >= 1e-10);
-    assert!(sol.iterations <= rhs.iterations);
 }
 
 #[test]
@@ -799,5 +829,44 @@ fn a_traced_2d_run_is_bit_identical_to_an_untraced_one() {
             mls.then_some(8 * 8 * 8),
             "8 values at 8 × 8 Gauss points"
         );
+    }
+}
+
+#[test]
+fn a_file_over_the_memory_limit_is_refused_by_its_size_before_it_is_read() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("oracle-size");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.csv");
+    // About 2 000 bytes of a valid header and rows: 4 bytes of memory per
+    // byte read is about 8 000, over 4 KiB.
+    let mut text = String::from("x0,u\n");
+    while text.len() < 2000 {
+        text.push_str("1.0,0.0\n");
+    }
+    std::fs::write(&path, &text).unwrap();
+    let args = [
+        "--max-memory",
+        "4KiB",
+        "check",
+        "vibrating-bar",
+        "--cells",
+        "1",
+        "--ppc",
+        "1",
+        "--steps",
+        "1",
+        "--input",
+        path.to_str().unwrap(),
+    ];
+    match hompm::cli::run(args) {
+        Err(e @ Error::Input(_)) => {
+            let m = e.to_string();
+            assert!(
+                m.contains("needs about 8") && m.contains("over the memory limit of 4096 bytes"),
+                "{m}"
+            );
+            assert_eq!(hompm::cli::exit_code(&e), 2);
+        }
+        other => panic!("{other:?}"),
     }
 }

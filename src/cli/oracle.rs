@@ -22,7 +22,6 @@ use crate::oracle::input::{parse_input, read_input, ColumnMap, Input};
 use crate::oracle::run::{reference, trace_1d, trace_2d};
 use crate::oracle::setup::{Setup, Setup1d};
 use crate::oracle::trace::{header_1d, header_2d, Trace, EQUATIONS_1D, EQUATIONS_2D};
-use crate::oracle::INPUT_MEMORY_FACTOR;
 use clap::ValueEnum;
 use std::path::PathBuf;
 
@@ -357,7 +356,7 @@ fn trace_summary(t: &Trace) -> String {
 
 /// Reads and parses one input file.
 fn read(path: &std::path::Path, a: &CheckArgs, limits: &Limits) -> Result<(Input, Vec<String>)> {
-    let text = read_input(path, limits.max_memory / INPUT_MEMORY_FACTOR)?;
+    let text = read_input(path, limits.max_memory)?;
     parse_input(&text, &ColumnMap::parse(&a.columns)?, a.setup.two_d())
 }
 

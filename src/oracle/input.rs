@@ -130,17 +130,18 @@ impl ColumnMap {
     }
 }
 
-/// Reads `path`, refusing a file larger than `max_bytes` by its size
-/// before reading it.
-pub fn read_input(path: &std::path::Path, max_bytes: u64) -> Result<String> {
+/// Reads `path`, refusing by its size, before reading it, a file whose
+/// parsing would need more than `max_memory` bytes
+/// ([`super::INPUT_MEMORY_FACTOR`] per byte of the file).
+pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
     let meta = std::fs::metadata(path)
         .map_err(|e| Error::Input(format!("cannot read {}: {e}", path.display())))?;
-    if meta.len() > max_bytes {
+    let needed = meta.len().saturating_mul(super::INPUT_MEMORY_FACTOR);
+    if needed > max_memory {
         return Err(Error::Input(format!(
-            "{} has {} bytes; reading it needs about {} bytes, over the memory limit of {max_bytes} (raise --max-memory)",
+            "{} has {} bytes; reading it needs about {needed} bytes, over the memory limit of {max_memory} bytes (raise --max-memory)",
             path.display(),
             meta.len(),
-            meta.len().saturating_mul(super::INPUT_MEMORY_FACTOR)
         )));
     }
     std::fs::read_to_string(path)
