@@ -73,6 +73,8 @@ impl Equation {
     }
 }
 
+/// A 1D equation: one value per index; `_point` documents where the step
+/// makes it final.
 const fn eq(
     key: &'static str,
     symbol: &'static str,
@@ -81,14 +83,7 @@ const fn eq(
     index: IndexKind,
     _point: StepPoint,
 ) -> Equation {
-    Equation {
-        key,
-        symbol,
-        quantity,
-        citation,
-        index,
-        components: 1,
-    }
+    eq2(key, symbol, quantity, citation, index, 1)
 }
 
 const fn eq2(

@@ -115,6 +115,20 @@ fn finite(name: &str, value: f64) -> Result<f64> {
     Ok(value)
 }
 
+/// Sets `target` to `value` if one is given, after `check` accepts it
+/// under the option's `name`.
+fn override_with(
+    target: &mut f64,
+    value: Option<f64>,
+    name: &str,
+    check: fn(&str, f64) -> Result<f64>,
+) -> Result<()> {
+    if let Some(v) = value {
+        *target = check(name, v)?;
+    }
+    Ok(())
+}
+
 /// A 1D scene with its (possibly overridden) parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "scene", rename_all = "kebab-case")]
@@ -133,21 +147,11 @@ impl Scene1d {
             &["young", "density", "length", "v0", "constitutive"],
         )?;
         let mut p = vibrating_bar::parameters(name)?;
-        if let Some(e) = o.young {
-            p.young = positive("young", e)?;
-        }
-        if let Some(r) = o.density {
-            p.density = positive("density", r)?;
-        }
-        if let Some(l) = o.length {
-            p.length = positive("length", l)?;
-        }
-        if let Some(v) = o.v0 {
-            p.v0 = finite("v0", v)?;
-        }
-        if let Some(c) = o.constitutive {
-            p.constitutive = c;
-        }
+        override_with(&mut p.young, o.young, "young", positive)?;
+        override_with(&mut p.density, o.density, "density", positive)?;
+        override_with(&mut p.length, o.length, "length", positive)?;
+        override_with(&mut p.v0, o.v0, "v0", finite)?;
+        p.constitutive = o.constitutive.unwrap_or(p.constitutive);
         Ok(Scene1d::VibratingBar(p))
     }
 
@@ -165,24 +169,12 @@ impl Scene1d {
             ],
         )?;
         let mut p = column::parameters(name)?;
-        if let Some(e) = o.young {
-            p.young = positive("young", e)?;
-        }
-        if let Some(r) = o.density {
-            p.density = positive("density", r)?;
-        }
-        if let Some(l) = o.length {
-            p.height = positive("length", l)?;
-        }
-        if let Some(g) = o.gravity {
-            p.gravity = finite("gravity", g)?;
-        }
-        if let Some(t) = o.top_load {
-            p.top_load = finite("top-load", t)?;
-        }
-        if let Some(c) = o.constitutive {
-            p.constitutive = c;
-        }
+        override_with(&mut p.young, o.young, "young", positive)?;
+        override_with(&mut p.density, o.density, "density", positive)?;
+        override_with(&mut p.height, o.length, "length", positive)?;
+        override_with(&mut p.gravity, o.gravity, "gravity", finite)?;
+        override_with(&mut p.top_load, o.top_load, "top-load", finite)?;
+        p.constitutive = o.constitutive.unwrap_or(p.constitutive);
         Ok(Scene1d::Column(p))
     }
 
@@ -263,21 +255,11 @@ impl Setup2d {
             .copied()
             .find(|s| *s == name);
         let mut p = aligned_vibration::parameters(name)?;
-        if let Some(e) = o.young {
-            p.young = positive("young", e)?;
-        }
-        if let Some(r) = o.density {
-            p.density = positive("density", r)?;
-        }
-        if let Some(l) = o.length {
-            p.length = positive("length", l)?;
-        }
-        if let Some(nu) = o.poisson {
-            p.poisson = finite("poisson", nu)?;
-        }
-        if let Some(a) = o.amplitude {
-            p.amplitude = finite("amplitude", a)?;
-        }
+        override_with(&mut p.young, o.young, "young", positive)?;
+        override_with(&mut p.density, o.density, "density", positive)?;
+        override_with(&mut p.length, o.length, "length", positive)?;
+        override_with(&mut p.poisson, o.poisson, "poisson", finite)?;
+        override_with(&mut p.amplitude, o.amplitude, "amplitude", finite)?;
         p.material()?;
         Ok((p, set.unwrap_or("custom")))
     }

@@ -331,21 +331,19 @@ impl StepObserver2d for TraceObserver2d {
 
 /// The header of a 2D setup's trace, as [`header_1d`].
 pub fn header_2d(setup: &Setup2d) -> Result<BTreeMap<String, serde_json::Value>> {
-    let value = super::setup::to_json(setup)?;
-    let mut header: BTreeMap<String, serde_json::Value> = match value {
-        serde_json::Value::Object(m) => m.into_iter().collect(),
-        _ => BTreeMap::new(),
-    };
-    header.insert("hompm".into(), serde_json::json!(env!("CARGO_PKG_VERSION")));
-    Ok(header)
+    header_of(setup)
 }
 
 /// The header of a 1D setup's trace: the setup's settings as `hompm`
 /// serialises them (`scene` with its parameters, `discretisation`, `dt`,
 /// `steps`) and the hompm version.
 pub fn header_1d(setup: &Setup1d) -> Result<BTreeMap<String, serde_json::Value>> {
-    let value = super::setup::to_json(setup)?;
-    let mut header: BTreeMap<String, serde_json::Value> = match value {
+    header_of(setup)
+}
+
+/// A setup's fields as a header, with the hompm version.
+fn header_of<T: serde::Serialize>(setup: &T) -> Result<BTreeMap<String, serde_json::Value>> {
+    let mut header: BTreeMap<String, serde_json::Value> = match super::setup::to_json(setup)? {
         serde_json::Value::Object(m) => m.into_iter().collect(),
         _ => BTreeMap::new(),
     };
