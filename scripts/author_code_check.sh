@@ -27,11 +27,11 @@ trap 'rm -rf "$work"' EXIT
 cat > "$work/driver.m" <<'OCTAVE'
 addpath(getenv('REPO'));
 num = @(name) str2double(getenv(name));
-constant = struct('density',1,'E',100,'g',0,'load',0,'height',25,'alpha',0,'v_0',0.1);
+constant = struct('density',num('RHO'),'E',num('E'),'g',0,'load',0,'height',num('L'),'alpha',0,'v_0',num('V0'));
 flag = struct('both_ends_fixed',1,'volume_update',1,'lumped',1,'change_glob_pos',1, ...
   'change_loc_pos',1,'lagranian',0,'momentum',1,'deformation',num('DEFORMATION'),'num_int',0, ...
   'dynamic',0,'splines',num('SPLINES'),'ULFEM',0);
-deg = num('DEG'); n_e = num('CELLS'); ppc = num('PPC'); n_steps = num('STEPS'); dt = 1e-5;
+deg = num('DEG'); n_e = num('CELLS'); ppc = num('PPC'); n_steps = num('STEPS'); dt = num('DT');
 n_dof = n_e + deg;
 Xi = zeros(n_dof + deg + 1, 1);
 mesh = 0:constant.height/(n_dof-deg):constant.height;
@@ -60,6 +60,7 @@ run_case() { # degree splines deformation label hompm-options…
   local start=$(date +%s.%N)
   (cd "$work" && REPO="$repo" DEG=$deg SPLINES=$splines DEFORMATION=$deformation \
     CELLS=$cells PPC=$ppc STEPS=$steps OUT="$work/theirs.csv" \
+    RHO=1 E=100 L=25 V0=0.1 DT=1e-5 \
     octave-cli --no-gui --quiet driver.m > octave.log 2>&1)
   local octave_s=$(echo "$(date +%s.%N) - $start" | bc)
   echo "== $label (Octave ${octave_s}s)"
@@ -80,3 +81,15 @@ for deformation in 0 1; do
   run_case 2 1 $deformation "spline-based MPM against hompm's default rule (residual over ‖P‖), $c strain" \
     --method bsmpm --degree 2 --mapping cubic-spline --mass richardson --constitutive $c
 done
+
+# Book §4.5's "more than 450" grid crossings: the author's code prints a
+# line for every element border a particle crosses. Its count on the
+# book's large-deformation bar as stated (book Table 4.1 with v0 = 0.8,
+# large strain, 20 elements × 8 PPC, Δt = 1e-5 s, 0.1 s), P1 = degree 1:
+(cd "$work" && REPO="$repo" DEG=1 SPLINES=0 DEFORMATION=1 CELLS=20 PPC=8 STEPS=10000 \
+  OUT="$work/large.csv" RHO=2000 E=7e6 L=1 V0=0.8 DT=1e-5 \
+  octave-cli --no-gui --quiet driver.m > crossings.log 2>&1) || true
+echo "== book §4.5 large-deformation bar, P1, 20 × 8, 10000 steps: the author's code counts" \
+  "$(grep -o 'crossed lower border\|crossed upper border' "$work/crossings.log" | wc -l) grid crossings;" \
+  "hompm: $("$hompm" run vibrating-bar --params book-table-4.1-large --method mpm --cells 20 --ppc 8 \
+    --dt 1e-5 --steps 10000 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["diagnostics"]["grid_crossings"])')"
