@@ -66,6 +66,13 @@ const SCENES: &[&str] = &[
     "column-top-load",
     "column-compaction",
 ];
+/// The 1D scenes and the 2D one.
+const SCENES_2D: &[&str] = &[
+    "vibrating-bar",
+    "column-self-weight",
+    "column-top-load",
+    "aligned-vibration",
+];
 const TABLE_IDS: &[&str] = &["no-such-table", "", "book-4.2\n"];
 
 /// One option: its flag and a value drawn from `pool` (a `None` pool is a
@@ -181,7 +188,39 @@ fn arguments() -> impl Strategy<Value = Vec<String>> {
             "target/fuzz-report".into(),
         ],
     ]);
-    prop_oneof![3 => basis, 3 => mass, 3 => reconstruct, 4 => run, 1 => table, 1 => misc]
+    let exact = prop::sample::select(SCENES_2D).prop_flat_map(|scene| {
+        command(
+            vec!["exact".into(), scene.into()],
+            vec![
+                option("--time", Some(FLOATS)),
+                option("--at", Some(LISTS)),
+                option("--cells", Some(COUNTS)),
+                option("--ppc", Some(COUNTS)),
+                option("--young", Some(FLOATS)),
+                option("--as-printed", None),
+                option("--json", None),
+                option("--csv", None),
+            ],
+        )
+    });
+    let trace = prop::sample::select(SCENES_2D).prop_flat_map(|scene| {
+        command(
+            vec!["trace".into(), scene.into()],
+            vec![
+                option("--method", Some(METHODS)),
+                option("--mass", Some(MASSES)),
+                option("--cells", Some(COUNTS)),
+                option("--ppc", Some(&["1", "2", "4", "9", "0", "-1"])),
+                option("--dt", Some(FLOATS)),
+                option("--steps", Some(&["0", "1", "2", "3", "-1", "x"])),
+                option("--every", Some(COUNTS)),
+                option("--residual", Some(&["rhs", "solution", "both"])),
+                option("--json", None),
+                option("--csv", None),
+            ],
+        )
+    });
+    prop_oneof![3 => basis, 3 => mass, 3 => reconstruct, 4 => run, 2 => exact, 2 => trace, 1 => table, 1 => misc]
 }
 
 /// Whether a count the command actually uses is huge: `run --degree`
@@ -195,6 +234,12 @@ fn uses_a_huge_count(args: &[String]) -> bool {
         let unused = match (args[0].as_str(), w[0].as_str()) {
             ("run", "--degree") => !has("--method", "bsmpm"),
             ("reconstruct", "--order") => !has("--method", "tls"),
+            // A huge --every only thins the trace to its first and last step.
+            ("trace", "--every") => true,
+            // With points given, exact ignores the particle layout.
+            ("exact", "--cells" | "--ppc") => {
+                args.windows(2).any(|v| v[0] == "--at" && !v[1].is_empty())
+            }
             _ => false,
         };
         w[0].starts_with("--")

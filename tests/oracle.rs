@@ -871,3 +871,33 @@ fn a_file_over_the_memory_limit_is_refused_by_its_size_before_it_is_read() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn exact_fields_stay_finite_at_times_where_omega_t_overflows() {
+    let bar = Scene1d::bar("thesis-table-4.1", &Overrides::default()).unwrap();
+    let column = Scene1d::column("thesis-table-8.1", &Overrides::default()).unwrap();
+    for scene in [bar, column] {
+        let e = exact_1d(&scene, 0.3 * scene.length(), 1e308);
+        assert!(
+            [e.u, e.v, e.strain, e.stress].iter().all(|x| x.is_finite()),
+            "{e:?}"
+        );
+    }
+    let (aligned, _) =
+        hompm::oracle::setup::Setup2d::scene("mls-paper-e1e7", &Overrides::default()).unwrap();
+    let e = hompm::oracle::exact::exact_2d(&aligned, [0.3, 0.6], 1e308, false).unwrap();
+    assert!(e
+        .u
+        .iter()
+        .chain(&e.stress)
+        .chain(&e.body_force)
+        .all(|x| x.is_finite()));
+    // Reduced by whole periods: the bar at 2·10⁶ periods + 1 s is the bar at 1 s.
+    let period = 50.0 / 10.0;
+    let far = exact_1d(&bar, 7.0, 2e6 * period + 1.0);
+    let near = exact_1d(&bar, 7.0, 1.0);
+    assert!(
+        (far.u - near.u).abs() <= 1e-9 * near.u.abs(),
+        "{far:?} {near:?}"
+    );
+}

@@ -231,6 +231,20 @@ pub fn exact(a: ExactArgs, limits: &Limits) -> Result<Output> {
             })
         }
     };
+    if let Some((name, values)) = columns
+        .iter()
+        .find(|(_, v)| v.iter().any(|x| !x.is_finite()))
+    {
+        let bad = values
+            .iter()
+            .copied()
+            .find(|x| !x.is_finite())
+            .unwrap_or(f64::NAN);
+        return Err(Error::NonFinite {
+            what: format!("the exact {name} at t = {:e}", a.time),
+            value: bad,
+        });
+    }
     if a.json {
         let mut doc = serde_json::Map::new();
         doc.insert("time".into(), serde_json::json!(a.time));
@@ -274,7 +288,13 @@ pub fn exact(a: ExactArgs, limits: &Limits) -> Result<Output> {
 /// The initial particle positions of a 1D setup.
 fn layout_1d(s: &Setup1d) -> Result<Vec<f64>> {
     let d = &s.discretisation;
-    Ok(Particles::uniform(0.0, s.scene.length(), d.cells * d.ppc, 1.0)?.x0)
+    let count = d.cells.checked_mul(d.ppc).ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "{} cells × {} PPC overflow a count",
+            d.cells, d.ppc
+        ))
+    })?;
+    Ok(Particles::uniform(0.0, s.scene.length(), count, 1.0)?.x0)
 }
 
 /// Bytes of a trace of `steps` traced steps: 8 particle and 9 DOF
@@ -285,13 +305,13 @@ fn trace_bytes(setup: &Setup, steps: usize) -> f64 {
     let per_step = match setup {
         Setup::OneD(s) => {
             let d = &s.discretisation;
-            let particles = (d.cells * d.ppc) as f64;
+            let particles = d.cells as f64 * d.ppc as f64;
             let dofs = 2.0 * d.cells as f64 + 8.0;
             8.0 * particles + 9.0 * dofs
         }
         Setup::TwoD(s) => {
             let c = s.cells as f64;
-            let particles = c * c * (s.per_side * s.per_side) as f64;
+            let particles = c * c * (s.per_side as f64).powi(2);
             let nodes = (c + 5.0) * (c + 5.0);
             14.0 * particles + 11.0 * nodes + 32.0 * c * c
         }

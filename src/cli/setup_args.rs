@@ -373,7 +373,7 @@ fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
         | AlignedMethod::BsmpmMlsPhase1 { degree }
         | AlignedMethod::TotalLagrangian { degree } => degree,
     };
-    let particles = (s.cells as f64).powi(2) * (s.per_side * s.per_side) as f64;
+    let particles = (s.cells as f64).powi(2) * (s.per_side as f64).powi(2);
     let nodes = (s.cells as f64 + degree as f64).powi(2);
     let mls = matches!(s.method, AlignedMethod::BsmpmMls { .. });
     let what = || format!("a 2D run of {particles:.0} particles × {} steps", s.steps);
