@@ -25,7 +25,7 @@
 //! Items: [`MlsShapes`], [`GaussGrid`].
 
 use crate::error::{Error, Result};
-use crate::reconstruct::mls::MLS_MAX_CONDITION;
+use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
 use nalgebra::Matrix3;
 
 /// The MLS shape functions φ_gp of every Gauss point, as flat lists
@@ -198,8 +198,8 @@ impl MlsShapes {
                 let (px, py) = (x[k as usize], y[k as usize]);
                 let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
                 let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
-                let wx = dx.map(weight);
-                let wy = dy.map(weight);
+                let wx = dx.map(quadratic_spline_weight);
+                let wy = dy.map(quadratic_spline_weight);
                 for j in 0..2 {
                     for i in 0..2 {
                         let q = 2 * j + i;
@@ -256,23 +256,6 @@ impl MlsShapes {
             self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));
         }
         Ok(())
-    }
-}
-
-/// [`crate::reconstruct::mls::quadratic_spline_weight`] (MLS paper Eq. 17) with the same operations
-/// and so the same numbers, written with a select instead of branches: the
-/// inner loop of the neighbour search evaluates it four times per
-/// candidate, and about half of the candidates are outside the support.
-#[inline]
-fn weight(d: f64) -> f64 {
-    let r = d.abs();
-    let inner = 0.75 - r * r;
-    let t = (1.5 - r).max(0.0);
-    let outer = 0.5 * t * t;
-    if r <= 0.5 {
-        inner
-    } else {
-        outer
     }
 }
 

@@ -22,15 +22,22 @@ use crate::error::{finite, Error, Result};
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, OVector, U1};
 
-/// The quadratic-spline weight of MLS paper Eq. (17), for r ≥ 0.
+/// The quadratic-spline weight of MLS paper Eq. (17) at distance r (in
+/// units of the support scale): 3/4 − r² for |r| ≤ ½, ½(3/2 − |r|)² for
+/// ½ < |r| ≤ 3/2, 0 beyond. Written with a select instead of branches, as
+/// the 2D engine's neighbour search evaluates it four times per candidate
+/// and about half of the candidates lie outside the support; one
+/// implementation serves the 1D oracle and the 2D engine.
+#[inline]
 pub fn quadratic_spline_weight(r: f64) -> f64 {
     let r = r.abs();
+    let inner = 0.75 - r * r;
+    let t = (1.5 - r).max(0.0);
+    let outer = 0.5 * t * t;
     if r <= 0.5 {
-        0.75 - r * r
-    } else if r <= 1.5 {
-        0.5 * (1.5 - r) * (1.5 - r)
+        inner
     } else {
-        0.0
+        outer
     }
 }
 
