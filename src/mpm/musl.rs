@@ -34,7 +34,7 @@
 //! [`NoObserver`], whose empty calls the compiler removes.
 //!
 //! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`],
-//! [`StepPoint`], [`StepObserver`], [`NoObserver`].
+//! [`StepPoint`], [`StepObserver`], [`NoObserver`], [`check_time_step`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
@@ -592,8 +592,9 @@ fn update_positions<const W: usize>(
     }
 }
 
-/// The time step must be positive and finite.
-fn check_time_step(dt: f64) -> Result<()> {
+/// The time step of a step must be positive and finite; the 1D and the 2D
+/// step both check it here.
+pub fn check_time_step(dt: f64) -> Result<()> {
     if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
         return Err(Error::InvalidArgument(format!(
             "the time step must be positive and finite, got {dt}"
