@@ -54,10 +54,31 @@ fn ulfem_rejects_bad_input() {
         constitutive: Constitutive::SmallStrain,
         gravity: 0.0,
     };
-    assert!(Ulfem::new(1.0, 0, m, |_| 0.0, vec![]).is_err());
-    assert!(Ulfem::new(1.0, 4, m, |_| 0.0, vec![9]).is_err());
-    assert!(Ulfem::new(-1.0, 4, m, |_| 0.0, vec![]).is_err());
+    let refused = |r: hompm::Result<Ulfem>, needle: &str| match r {
+        Err(hompm::Error::InvalidArgument(msg)) => assert!(msg.contains(needle), "{msg}"),
+        other => panic!(
+            "expected InvalidArgument with '{needle}', got {:?}",
+            other.map(|_| ())
+        ),
+    };
+    refused(
+        Ulfem::new(1.0, 0, m, |_| 0.0, vec![]),
+        "positive length, elements",
+    );
+    refused(
+        Ulfem::new(1.0, 4, m, |_| 0.0, vec![9]),
+        "fixed node 9 outside 0..=4",
+    );
+    refused(
+        Ulfem::new(-1.0, 4, m, |_| 0.0, vec![]),
+        "positive length, elements",
+    );
     let mut ul = Ulfem::new(1.0, 4, m, |_| 0.0, vec![0]).unwrap();
-    assert!(ul.step(0.0).is_err());
+    match ul.step(0.0) {
+        Err(hompm::Error::InvalidArgument(msg)) => {
+            assert!(msg.contains("time step must be positive, got 0"), "{msg}")
+        }
+        other => panic!("{other:?}"),
+    }
     assert!(ul.step(1e-3).is_ok());
 }

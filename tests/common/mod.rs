@@ -65,16 +65,7 @@ pub fn sample_points(kv: &KnotVector, fractions: &[f64]) -> Vec<f64> {
 /// fixed does not (no test pins a count of deviations).
 pub fn assert_reproduced(report: &hompm::tables::TableReport, entries: &[(&str, &str)]) {
     for (row, col) in entries {
-        let i = report
-            .row_labels
-            .iter()
-            .position(|l| l.starts_with(row))
-            .unwrap_or_else(|| panic!("{}: no row '{row}'", report.id));
-        let j = report
-            .col_labels
-            .iter()
-            .position(|l| l == col)
-            .unwrap_or_else(|| panic!("{}: no column '{col}'", report.id));
+        let [i, j] = cell(report, row, col);
         assert_eq!(
             report.status[i][j],
             hompm::tables::Status::Reproduced,
@@ -84,6 +75,22 @@ pub fn assert_reproduced(report: &hompm::tables::TableReport, entries: &[(&str, 
             report.computed[i][j]
         );
     }
+}
+
+/// The (row, column) position of the cell named by its row label's start
+/// and its column label: tests name cells by label, never by position.
+pub fn cell(report: &hompm::tables::TableReport, row: &str, col: &str) -> [usize; 2] {
+    let i = report
+        .row_labels
+        .iter()
+        .position(|l| l.starts_with(row))
+        .unwrap_or_else(|| panic!("{}: no row '{row}'", report.id));
+    let j = report
+        .col_labels
+        .iter()
+        .position(|l| l == col)
+        .unwrap_or_else(|| panic!("{}: no column '{col}'", report.id));
+    [i, j]
 }
 
 /// Run settings with the same mapping for force and velocity, no gravity,
