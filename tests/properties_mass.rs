@@ -10,6 +10,7 @@ use hompm::mass::{
 };
 use hompm::solve::cg::{conjugate_gradient, conjugate_gradient_observed, CgVariant};
 use hompm::solve::direct::cholesky_solve;
+use hompm::solve::richardson::ResidualNorm;
 use hompm::solve::richardson::{richardson, richardson_contraction};
 use hompm::solve::spectrum::{spectrum_1d, spectrum_kronecker, symmetric_eigenvalues};
 use hompm::sparse::SparseMatrix;
@@ -132,7 +133,7 @@ proptest! {
         };
         let e0 = energy(&vec![0.0; n]);
         let mut worst: f64 = 0.0;
-        let result = conjugate_gradient_observed(&a, b, 1e-12, 4 * n, CgVariant::Recursive, &mut |k, x| {
+        let result = conjugate_gradient_observed(&a, b, 1e-12, ResidualNorm::Rhs, 4 * n, CgVariant::Recursive, &mut |k, x| {
             let bound = 2.0 * rate.powi(k as i32) * e0;
             worst = worst.max(energy(x) - bound - 1e-9 * e0);
         });

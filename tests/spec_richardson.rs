@@ -99,14 +99,21 @@ fn tolerances_outside_epsilon_to_finite_are_refused() {
 #[test]
 fn the_true_residual_variant_reports_the_true_residual() {
     use hompm::solve::cg::{conjugate_gradient_observed, CgVariant};
+    use hompm::solve::richardson::ResidualNorm;
     use hompm::solve::{norm, LinearOperator};
     let m = hompm::mass::unit_density_mass(16, 6, true).unwrap();
     let b: Vec<f64> = (0..m.rows()).map(|i| ((i * 7 % 11) as f64) - 5.0).collect();
     let drift = |variant: CgVariant| {
         let mut iterates: Vec<Vec<f64>> = Vec::new();
-        let r = conjugate_gradient_observed(&m, &b, 1e-12, 400, variant, &mut |_, x| {
-            iterates.push(x.to_vec())
-        })
+        let r = conjugate_gradient_observed(
+            &m,
+            &b,
+            1e-12,
+            ResidualNorm::Rhs,
+            400,
+            variant,
+            &mut |_, x| iterates.push(x.to_vec()),
+        )
         .unwrap();
         let mut worst: f64 = 0.0;
         for (x, reported) in iterates.iter().zip(&r.residuals).skip(1) {

@@ -220,13 +220,14 @@ pub fn mass(a: MassArgs, limits: &Limits) -> Result<Output> {
 fn solve_with(solver: SolverArg, matrix: &SparseMatrix, a: &MassArgs) -> Result<IterativeResult> {
     let f = solve::gravity_rhs(matrix);
     match solver {
-        SolverArg::Cg => cg::conjugate_gradient_with(
+        SolverArg::Cg => cg::conjugate_gradient_observed(
             matrix,
             &f,
             a.tol,
             a.residual_norm(),
             100_000,
             cg::CgVariant::Recursive,
+            &mut |_, _| {},
         ),
         SolverArg::Pmg => pmultigrid::PMultigrid::unit_mass(
             a.spans,

@@ -10,7 +10,7 @@
 //! [`CgVariant::TrueResidual`] (r = b − A x recomputed each step) and
 //! [`CgVariant::PolakRibiere`] (β = r_{k+1}ᵀ(r_{k+1} − r_k)/r_kᵀr_k).
 //!
-//! Items: [`CgVariant`], [`conjugate_gradient`], [`conjugate_gradient_with`],
+//! Items: [`CgVariant`], [`conjugate_gradient`],
 //! [`conjugate_gradient_observed`].
 
 use super::richardson::ResidualNorm;
@@ -38,40 +38,18 @@ pub fn conjugate_gradient(
     max_iter: usize,
     variant: CgVariant,
 ) -> Result<IterativeResult> {
-    conjugate_gradient_observed(op, b, tol, max_iter, variant, &mut |_, _| {})
+    let rule = ResidualNorm::Rhs;
+    conjugate_gradient_observed(op, b, tol, rule, max_iter, variant, &mut |_, _| {})
 }
 
-/// [`conjugate_gradient`] with the residual divided by ‖r_0‖ = ‖b‖
+/// [`conjugate_gradient`] with a choice of stopping rule, handing every
+/// iterate x_k (k = 0, 1, …) to `observe` (the test of the error bound of
+/// book Eq. 4.57 reads them). The residual is divided by ‖r_0‖ = ‖b‖
 /// ([`ResidualNorm::Rhs`], Eq. 4.53) or by the iterate's ‖x_k‖
 /// ([`ResidualNorm::Solution`], the rule of the thesis author's Richardson
 /// code, offered so that another code's CG can be matched); both stop at
 /// the first ratio below `tol`.
-pub fn conjugate_gradient_with(
-    op: &dyn LinearOperator,
-    b: &[f64],
-    tol: f64,
-    residual: ResidualNorm,
-    max_iter: usize,
-    variant: CgVariant,
-) -> Result<IterativeResult> {
-    cg(op, b, tol, residual, max_iter, variant, &mut |_, _| {})
-}
-
-/// [`conjugate_gradient`] that also hands every iterate x_k (k = 0, 1, …) to
-/// `observe` — used to test the error bound of book Eq. (4.57).
 pub fn conjugate_gradient_observed(
-    op: &dyn LinearOperator,
-    b: &[f64],
-    tol: f64,
-    max_iter: usize,
-    variant: CgVariant,
-    observe: &mut dyn FnMut(usize, &[f64]),
-) -> Result<IterativeResult> {
-    cg(op, b, tol, ResidualNorm::Rhs, max_iter, variant, observe)
-}
-
-/// The CG iteration of the public functions.
-fn cg(
     op: &dyn LinearOperator,
     b: &[f64],
     tol: f64,
