@@ -908,3 +908,72 @@ fn exact_fields_stay_finite_at_times_where_omega_t_overflows() {
         "{far:?} {near:?}"
     );
 }
+
+#[test]
+fn bad_arguments_to_exact_trace_and_check_are_one_line_and_exit_2() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("oracle-args");
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("good.csv");
+    std::fs::write(&good, "x0,u\n1,0\n").unwrap();
+    let missing = dir.join("missing.csv");
+    let g = good.to_str().unwrap();
+    let m = missing.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["exact", "vibrating-bar", "--time", "nan"], "--time"),
+        (
+            vec!["exact", "vibrating-bar", "--time", "0", "--at", "30"],
+            "outside",
+        ),
+        (
+            vec!["exact", "aligned-vibration", "--time", "0", "--at", "0.1"],
+            "x,y pairs",
+        ),
+        (
+            vec!["exact", "vibrating-bar", "--time", "0", "--poisson", "0.3"],
+            "no parameter --poisson",
+        ),
+        (
+            vec!["exact", "vibrating-bar", "--time", "0", "--params", "nope"],
+            "unknown",
+        ),
+        (vec!["trace", "vibrating-bar", "--every", "0"], "--every"),
+        (vec!["trace", "vibrating-bar", "--dt", "-1"], "--dt"),
+        (
+            vec!["trace", "column-self-weight", "--young", "-5"],
+            "--young must be positive",
+        ),
+        (
+            vec!["check", "vibrating-bar", "--input", g, "--rtol", "nan"],
+            "--rtol",
+        ),
+        (
+            vec![
+                "check",
+                "vibrating-bar",
+                "--input",
+                g,
+                "--mass",
+                "lumped",
+                "--tol",
+                "1e-9",
+            ],
+            "--tol",
+        ),
+        (vec!["check", "vibrating-bar", "--input", m], "cannot read"),
+        (
+            vec!["check", "vibrating-bar", "--input", g],
+            "particles, the setup has",
+        ),
+        (vec!["check", "vibrating-bar"], "--input"),
+    ];
+    for (args, needle) in cases {
+        match hompm::cli::run(&args) {
+            Err(e) => {
+                let line = hompm::cli::one_line(&e.to_string());
+                assert!(line.contains(needle), "{args:?}: {line}");
+                assert_eq!(hompm::cli::exit_code(&e), 2, "{args:?}: {line}");
+            }
+            Ok(out) => panic!("{args:?} was accepted: {}", out.stdout),
+        }
+    }
+}

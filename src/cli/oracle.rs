@@ -3,7 +3,9 @@
 //! The commands of the oracle (docs/oracle.md): they parse, call
 //! [`crate::oracle`] and print. `check` exits 0 when the other code agrees,
 //! 1 when it differs (the report is printed first), 2 when its input is
-//! unusable.
+//! unusable. Bad arguments to `exact`, `trace` and `check` (a NaN time, an
+//! unknown parameter set, an override a scene lacks, …) are usage errors:
+//! one line, exit 2. A refusal by the limits and a run that fails exit 1.
 //!
 //! Items: [`ExactArgs`], [`TraceArgs`], [`CheckArgs`], [`MatchArg`],
 //! [`exact`], [`trace`], [`check`].
@@ -109,8 +111,23 @@ pub struct CheckArgs {
     json: bool,
 }
 
-/// `hompm exact`.
+/// An error in the arguments of an oracle command is a usage error (exit
+/// 2, docs/oracle.md); a refusal by the limits, an input-file error and the
+/// failures of a run keep their own kind.
+fn as_usage(e: Error) -> Error {
+    match e {
+        Error::OverLimit { .. } | Error::Input(_) | Error::Usage(_) => e,
+        other => Error::Usage(other.to_string()),
+    }
+}
+
+/// `hompm exact`: every failure is in its arguments (exit 2) but a
+/// refusal by the limits.
 pub fn exact(a: ExactArgs, limits: &Limits) -> Result<Output> {
+    exact_fields(a, limits).map_err(as_usage)
+}
+
+fn exact_fields(a: ExactArgs, limits: &Limits) -> Result<Output> {
     crate::error::finite("--time", a.time)?;
     let scene = a.setup.scene()?;
     let mut setup = a.setup.clone();
@@ -322,9 +339,9 @@ fn trace_bytes(setup: &Setup, steps: usize) -> f64 {
 /// `hompm trace`.
 pub fn trace(a: TraceArgs, limits: &Limits) -> Result<Output> {
     if a.every == 0 {
-        return Err(Error::InvalidArgument("--every must be at least 1".into()));
+        return Err(Error::Usage("--every must be at least 1".into()));
     }
-    let setup = a.setup.setup()?;
+    let setup = a.setup.setup().map_err(as_usage)?;
     let traced = if setup.steps() == 0 {
         0
     } else {
@@ -391,6 +408,13 @@ pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
             MatchArg::X0 => MatchBy::X0,
         },
     };
+    for (name, v) in [("--rtol", a.rtol), ("--atol", a.atol)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(Error::Usage(format!(
+                "{name} must be finite and at least 0, got {v}"
+            )));
+        }
+    }
     if !a.convergence.is_empty() {
         return check_convergence(&a, &options, limits);
     }
@@ -399,7 +423,7 @@ pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
             "--input FILE or --convergence FILE… is required".into(),
         ));
     };
-    let setup = a.setup.setup()?;
+    let setup = a.setup.setup().map_err(as_usage)?;
     a.setup.check_limits(&setup, limits, 0.0)?;
     let (input, ignored) = read(path, &a, limits)?;
     let only = match &input {
@@ -497,7 +521,7 @@ fn check_convergence(a: &CheckArgs, o: &CheckOptions, limits: &Limits) -> Result
             super::args::count(text.trim_matches('"'))
                 .map_err(|e| Error::Input(format!("{}: cells {e}", path.display())))?
         };
-        let setup = a.setup.setup_with_cells(cells)?;
+        let setup = a.setup.setup_with_cells(cells).map_err(as_usage)?;
         a.setup.check_limits(&setup, limits, 0.0)?;
         let length = match &setup {
             Setup::OneD(s) => s.scene.length(),
