@@ -840,10 +840,16 @@ fn a_traced_2d_run_is_bit_identical_to_an_untraced_one() {
     }
 }
 
+/// A directory of this test binary's scratch space.
+fn scratch_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 #[test]
 fn a_file_over_the_memory_limit_is_refused_by_its_size_before_it_is_read() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("oracle-size");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("oracle-size");
     let path = dir.join("big.csv");
     // About 2 000 bytes of a valid header and rows: 4 bytes of memory per
     // byte read is about 8 000, over 4 KiB.
@@ -911,8 +917,7 @@ fn exact_fields_stay_finite_at_times_where_omega_t_overflows() {
 
 #[test]
 fn bad_arguments_to_exact_trace_and_check_are_one_line_and_exit_2() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("oracle-args");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("oracle-args");
     let good = dir.join("good.csv");
     std::fs::write(&good, "x0,u\n1,0\n").unwrap();
     let missing = dir.join("missing.csv");
