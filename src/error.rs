@@ -141,14 +141,18 @@ pub enum Error {
     },
     /// A TLS cell whose data cannot determine its fit (TLS paper §5.3), when
     /// degenerate cells are errors.
-    #[error("singular system: TLS on cell {cell} [{a}, {b}]: {detail}")]
+    #[error(
+        "singular system: TLS on cell {} [{}]: {detail}",
+        index_text(cell),
+        cell_text(lower, upper)
+    )]
     SingularCell {
-        /// Index of the cell.
-        cell: usize,
-        /// Left end of the cell.
-        a: f64,
-        /// Right end of the cell.
-        b: f64,
+        /// Index of the cell per axis: (e) in 1D, (e_x, e_y) in 2D.
+        cell: Vec<usize>,
+        /// Lower corner: the left end in 1D, (x₀, y₀) in 2D.
+        lower: Vec<f64>,
+        /// Upper corner: the right end in 1D, (x₁, y₁) in 2D.
+        upper: Vec<f64>,
         /// Why the fit failed (too few points, or κ(D) with its value).
         detail: String,
     },
@@ -315,4 +319,26 @@ fn where_in_run(particle: Option<usize>, step: Option<usize>, time: Option<f64>)
 fn point_text(point: &[f64]) -> String {
     let coordinates: Vec<String> = point.iter().map(|c| format!("{c:.6}")).collect();
     format!("({})", coordinates.join(", "))
+}
+
+/// A cell index: `3` in 1D, `(2, 5)` in 2D.
+fn index_text(cell: &[usize]) -> String {
+    match cell {
+        [e] => e.to_string(),
+        _ => {
+            let parts: Vec<String> = cell.iter().map(|e| e.to_string()).collect();
+            format!("({})", parts.join(", "))
+        }
+    }
+}
+
+/// A cell's extent: `0.25, 0.5` in 1D, `0, 0.5] × [0.5, 1` in 2D (inside
+/// the brackets of the message).
+fn cell_text(lower: &[f64], upper: &[f64]) -> String {
+    let sides: Vec<String> = lower
+        .iter()
+        .zip(upper)
+        .map(|(a, b)| format!("{a}, {b}"))
+        .collect();
+    sides.join("] × [")
 }

@@ -26,6 +26,9 @@ pub enum MethodArg {
     Bsmpm,
     /// B-spline MPM with MLS to the Gauss points (MLS paper; aligned-vibration only).
     BsmpmMls,
+    /// B-spline MPM with conservative Taylor least squares to the Gauss
+    /// points (TLS paper §5 in 2D; aligned-vibration only).
+    BsmpmTls,
     /// Total-Lagrangian FE with B-splines, no grid crossing (hompm's
     /// reference; aligned-vibration only).
     TlFe,
@@ -51,7 +54,7 @@ impl MethodArg {
                     "bsmpm needs --degree ≥ 1, got 0".into(),
                 ))
             }
-            MethodArg::BsmpmMls | MethodArg::TlFe => {
+            MethodArg::BsmpmMls | MethodArg::BsmpmTls | MethodArg::TlFe => {
                 return Err(Error::InvalidArgument(format!(
                     "--method {} runs only in the 2D scene aligned-vibration",
                     name(&self)
@@ -144,7 +147,7 @@ pub enum SceneArg {
     /// Thesis §8.1: the column under a top load.
     ColumnTopLoad,
     /// MLS paper: the 2D manufactured neo-Hookean vibration (methods mpm,
-    /// bsmpm, bsmpm-mls, tl-fe).
+    /// bsmpm, bsmpm-mls, bsmpm-tls, tl-fe).
     AlignedVibration,
 }
 

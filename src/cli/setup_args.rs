@@ -296,11 +296,14 @@ impl SetupArgs {
             MethodArg::BsmpmMls => Ok(AlignedMethod::BsmpmMls {
                 degree: self.degree,
             }),
+            MethodArg::BsmpmTls => Ok(AlignedMethod::BsmpmTls {
+                degree: self.degree,
+            }),
             MethodArg::TlFe => Ok(AlignedMethod::TotalLagrangian {
                 degree: self.degree,
             }),
             other => Err(Error::InvalidArgument(format!(
-                "aligned-vibration runs mpm, bsmpm, bsmpm-mls or tl-fe, not {}",
+                "aligned-vibration runs mpm, bsmpm, bsmpm-mls, bsmpm-tls or tl-fe, not {}",
                 name(&other)
             ))),
         }
@@ -371,6 +374,7 @@ fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
         AlignedMethod::Bsmpm { degree }
         | AlignedMethod::BsmpmMls { degree }
         | AlignedMethod::BsmpmMlsPhase1 { degree }
+        | AlignedMethod::BsmpmTls { degree }
         | AlignedMethod::TotalLagrangian { degree } => degree,
     };
     let particles = (s.cells as f64).powi(2) * (s.per_side as f64).powi(2);
@@ -383,7 +387,7 @@ fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
     let width2 = (degree as f64 + 1.0).powi(2) / 9.0;
     let ns = match s.method {
         AlignedMethod::Mpm => 60.0,
-        AlignedMethod::BsmpmMls { .. } => 500.0 * width2,
+        AlignedMethod::BsmpmMls { .. } | AlignedMethod::BsmpmTls { .. } => 500.0 * width2,
         _ => 110.0 * width2,
     };
     limits.check_time(what, 2.0 * ns * 1e-9 * particles * s.steps as f64)

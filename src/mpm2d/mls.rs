@@ -22,8 +22,15 @@
 //! support, the paper's own warning) is `Error::Singular`, naming the Gauss
 //! point and the number of particles its support holds.
 //!
-//! Items: [`MlsShapes`], [`GaussGrid`].
+//! [`MlsShapes`] is one [`GaussReconstruction`] of the step
+//! (`Mapping2d::Mls`).
+//!
+//! Items: [`MlsShapes`] (and [`GaussGrid`], re-exported from
+//! [`super::reconstruction`]).
 
+use super::particles::Particles2d;
+pub use super::reconstruction::GaussGrid;
+use super::reconstruction::{GaussReconstruction, ShapeLists};
 use crate::error::{Error, Result};
 use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
 use nalgebra::Matrix3;
@@ -52,16 +59,6 @@ pub struct MlsShapes {
     local: [Vec<(u32, f64, [f64; 2])>; 4],
     /// How many entries of each `local` list are kept.
     count: [usize; 4],
-}
-
-/// The Gauss points of the grid: 2·cells abscissae per axis, g = gx + n·gy.
-pub struct GaussGrid<'a> {
-    /// The abscissae of one axis.
-    pub abscissae: &'a [f64],
-    /// Cells per direction.
-    pub cells: usize,
-    /// h.
-    pub cell_size: f64,
 }
 
 impl MlsShapes {
@@ -212,17 +209,6 @@ impl MlsShapes {
         }
     }
 
-    /// The Gauss points (gx, gy) in the order their lists are stored: cell
-    /// by cell, the four points of a cell together. Reading the lists in
-    /// this order reads `particle` and `phi` front to back.
-    pub fn storage_order(cells: usize) -> impl Iterator<Item = (usize, usize)> {
-        (0..cells).flat_map(move |cy| {
-            (0..cells).flat_map(move |cx| {
-                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| (2 * cx + i, 2 * cy + j))
-            })
-        })
-    }
-
     /// The cells a reach [lo, hi] on one axis touches.
     fn cell_range(lo: f64, hi: f64, h: f64, cells: usize) -> std::ops::RangeInclusive<usize> {
         let first = (lo / h).floor().max(0.0) as usize;
@@ -256,6 +242,35 @@ impl MlsShapes {
             self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));
         }
         Ok(())
+    }
+}
+
+impl GaussReconstruction for MlsShapes {
+    fn name(&self) -> &'static str {
+        "MLS"
+    }
+
+    fn evaluate(
+        &mut self,
+        gauss: &GaussGrid,
+        particles: &Particles2d,
+        cell_x: &[usize],
+        cell_y: &[usize],
+    ) -> Result<()> {
+        MlsShapes::evaluate(self, gauss, &particles.x, &particles.y, cell_x, cell_y)
+    }
+
+    fn lists(&self) -> ShapeLists<'_> {
+        ShapeLists {
+            start: &self.start,
+            end: &self.end,
+            particle: &self.particle,
+            phi: &self.phi,
+        }
+    }
+
+    fn largest_condition(&self) -> f64 {
+        self.largest_condition
     }
 }
 

@@ -3,7 +3,9 @@
 //! Bilinear MPM, B-spline MPM and B-spline MPM with moving least squares on
 //! the unit square, as far as the MLS paper's aligned vibration needs and no
 //! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
-//! (10)–(17) at the Gauss points ([`mls`]), (18)–(37) (one step, [`step`]),
+//! (10)–(17) at the Gauss points ([`mls`]), the TLS paper's §5.2–5.5 on
+//! rectangular cells ([`tls`]), both behind one interface
+//! ([`reconstruction`]), (18)–(37) (one step, [`step`]),
 //! (40)–(41) (the neo-Hookean solid, [`material`]). The particles are a
 //! struct of arrays ([`particles`]).
 //!
@@ -15,7 +17,9 @@ pub mod grid;
 pub mod material;
 pub mod mls;
 pub mod particles;
+pub mod reconstruction;
 pub mod step;
+pub mod tls;
 
 pub use grid::{Basis2d, Grid2d};
 pub use material::NeoHookean;

@@ -1,4 +1,4 @@
-//! # One time step of 2D MPM, BSMPM and BSMPM with MLS
+//! # One time step of 2D MPM, BSMPM and BSMPM with MLS or TLS
 //!
 //! The algorithm of the MLS paper (Eqs. 18–37), phase by phase. Each phase is
 //! one function below, called in this order by [`Simulation2d::step`]:
@@ -7,14 +7,15 @@
 //!    as two 1D stencils per particle;
 //! 2. phase 1, the mapping to the grid: [`map_direct`] (particles as the
 //!    quadrature points: m_i = Σ_p N_i m_p, (mv)_i = Σ_p N_i m_p v_p,
-//!    f_i^b = Σ_p N_i m_p b_p, f_i^int = −Σ_p ∇N_i σ_p V_p) or [`map_mls`]
-//!    (Eqs. 18–21 by MLS to the Gauss points, then Eqs. 22–25 by 2×2 Gauss
-//!    quadrature);
+//!    f_i^b = Σ_p N_i m_p b_p, f_i^int = −Σ_p ∇N_i σ_p V_p) or
+//!    [`map_reconstructed`] (Eqs. 18–21 by a reconstruction to the Gauss
+//!    points, MLS or TLS, [`super::reconstruction`]; then Eqs. 22–25 by 2×2
+//!    Gauss quadrature);
 //! 3. phase 2, [`nodal_update`]: f = f^int + f^b (Eq. 26), a = f/m (27),
 //!    (mv)^{t+1} = (mv)^t + f Δt (28), with zero normal velocity on the walls;
 //! 4. phase 3, [`update_particles`]: v_p and x_p (Eqs. 29–30);
-//! 5. [`end_of_step_velocity`]: the second mapping (Eqs. 31–33), direct or MLS
-//!    with the same φ_gp;
+//! 5. [`end_of_step_velocity`]: the second mapping (Eqs. 31–33), direct or by
+//!    the reconstruction with the same φ_gp;
 //! 6. [`update_deformation`]: ∇v_p (34), F_p (35), V_p (36), ρ_p (37) and the
 //!    neo-Hookean stress (Eq. 41).
 //!
@@ -34,7 +35,7 @@
 //! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
-//! Items: [`Mapping2d`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
+//! Items: [`Mapping2d`], [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
 //! [`Conservation2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
 //! [`NoObserver2d`], the phase functions above, and
 //! [`map_direct_reference`] and [`update_deformation_reference`] of the
@@ -42,8 +43,10 @@
 
 use super::grid::Grid2d;
 use super::material::NeoHookean;
-use super::mls::{GaussGrid, MlsShapes};
+use super::mls::MlsShapes;
 use super::particles::Particles2d;
+use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
+use super::tls::TlsShapes;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::spline::bspline::SpanScratch;
@@ -63,6 +66,47 @@ pub enum Mapping2d {
     /// direct mapping for the end-of-step velocity (Eqs. 31–33), to tell
     /// which of the two MLS mappings drives the errors.
     MlsPhase1,
+    /// Conservative Taylor least squares (TLS paper §5.2–5.5 on the cells,
+    /// [`super::tls`]) in place of MLS, in both mappings of a step.
+    Tls,
+}
+
+impl Mapping2d {
+    /// The registration of the Gauss-point reconstructions: the
+    /// [`GaussReconstruction`] of this mapping for `particles` particles on
+    /// `cells`² cells (MLS with support scale `mls_support`), or `None` for
+    /// the direct mapping.
+    pub fn reconstruction(
+        self,
+        mls_support: f64,
+        cells: usize,
+        particles: usize,
+    ) -> Result<Option<Box<dyn GaussReconstruction>>> {
+        Ok(match self {
+            Mapping2d::Direct => None,
+            Mapping2d::Mls | Mapping2d::MlsPhase1 => {
+                Some(Box::new(MlsShapes::new(mls_support, cells, particles)?))
+            }
+            Mapping2d::Tls => Some(Box::new(TlsShapes::for_engine(cells, particles)?)),
+        })
+    }
+
+    /// The mapping's name on the command line and in JSON: `direct`, `mls`,
+    /// `mls-phase-1`, `tls`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mapping2d::Direct => "direct",
+            Mapping2d::Mls => "mls",
+            Mapping2d::MlsPhase1 => "mls-phase-1",
+            Mapping2d::Tls => "tls",
+        }
+    }
+
+    /// Whether the end-of-step velocity (Eqs. 31–33) is mapped through the
+    /// reconstruction too (every reconstruction but the phase-1 diagnostic).
+    pub fn reconstructs_end_of_step(self) -> bool {
+        matches!(self, Mapping2d::Mls | Mapping2d::Tls)
+    }
 }
 
 /// The points of a 2D step after which a [`StepObserver2d`] is called.
@@ -147,7 +191,7 @@ pub struct Conservation2d {
 }
 
 /// Everything a step writes besides the particles, allocated once.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Workspace2d {
     /// The x-axis basis at every particle.
     pub along_x: Stencils,
@@ -164,13 +208,14 @@ pub struct Workspace2d {
     pub force: Vec<[f64; 2]>,
     /// End-of-step nodal velocities v_i^L (Eq. 33).
     pub velocity: Vec<[f64; 2]>,
-    /// The MLS shape functions, for the MLS mapping.
-    pub mls: Option<MlsShapes>,
+    /// The Gauss-point reconstruction (MLS or TLS) of a reconstructed
+    /// mapping; `None` for the direct mapping.
+    pub reconstruction: Option<Box<dyn GaussReconstruction>>,
     /// [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] per particle, the values
-    /// the MLS mapping carries to the Gauss points (Eqs. 18–21).
+    /// a reconstruction carries to the Gauss points (Eqs. 18–21).
     pub particle_values: Vec<[f64; 8]>,
     /// The same eight values at every Gauss point g = gx + 2·cells·gy after
-    /// the MLS mapping of phase 1, Eqs. (18)–(21) (MLS only).
+    /// the reconstruction of phase 1, Eqs. (18)–(21).
     pub gauss_values: Vec<[f64; 8]>,
 }
 
@@ -192,6 +237,20 @@ pub struct Simulation2d {
     pub steps: usize,
     /// Mapping errors so far.
     pub conservation: Conservation2d,
+    /// What the reconstruction (if any) met so far: the largest condition
+    /// number of its small systems and the most cells repaired in one step.
+    pub reconstruction_record: ReconstructionRecord,
+}
+
+/// The largest κ and the most repaired cells of a run's reconstructions
+/// (MLS: κ₁ of the moment matrices; TLS: κ₁ of the cells' normal matrices
+/// and the cells whose basis was reduced, TLS paper §5.3).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ReconstructionRecord {
+    /// Largest condition number over every step.
+    pub largest_condition: f64,
+    /// Most cells repaired in one step.
+    pub most_repaired: usize,
 }
 
 impl Simulation2d {
@@ -212,12 +271,10 @@ impl Simulation2d {
                 "the total-Lagrangian reference uses the direct mapping only".into(),
             ));
         }
-        let mls = match settings.mapping {
-            Mapping2d::Direct => None,
-            Mapping2d::Mls | Mapping2d::MlsPhase1 => {
-                Some(MlsShapes::new(settings.mls_support, grid.cells(), n)?)
-            }
-        };
+        let reconstruction =
+            settings
+                .mapping
+                .reconstruction(settings.mls_support, grid.cells(), n)?;
         let workspace = Workspace2d {
             along_x: grid.axis().stencils(n),
             along_y: grid.axis().stencils(n),
@@ -227,17 +284,17 @@ impl Simulation2d {
             momentum: vec![[0.0; 2]; nodes],
             force: vec![[0.0; 2]; nodes],
             velocity: vec![[0.0; 2]; nodes],
-            particle_values: if mls.is_some() {
+            particle_values: if reconstruction.is_some() {
                 vec![[0.0; 8]; n]
             } else {
                 Vec::new()
             },
-            gauss_values: if mls.is_some() {
+            gauss_values: if reconstruction.is_some() {
                 vec![[0.0; 8]; 4 * grid.cells() * grid.cells()]
             } else {
                 Vec::new()
             },
-            mls,
+            reconstruction,
         };
         let mut sim = Self {
             grid,
@@ -248,6 +305,7 @@ impl Simulation2d {
             time: 0.0,
             steps: 0,
             conservation: Conservation2d::default(),
+            reconstruction_record: ReconstructionRecord::default(),
         };
         evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0)?;
         if settings.formulation == Formulation::TotalLagrangian {
@@ -280,9 +338,16 @@ impl Simulation2d {
             match self.settings.mapping {
                 Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
                 Mapping2d::Direct => map_direct(grid, p, ws),
-                Mapping2d::Mls | Mapping2d::MlsPhase1 => map_mls(grid, p, ws)?,
+                Mapping2d::Mls | Mapping2d::MlsPhase1 | Mapping2d::Tls => {
+                    map_reconstructed(grid, p, ws)?
+                }
             }
             record_conservation(p, ws, &mut self.conservation);
+            if let Some(shapes) = &ws.reconstruction {
+                let r = &mut self.reconstruction_record;
+                r.largest_condition = r.largest_condition.max(shapes.largest_condition());
+                r.most_repaired = r.most_repaired.max(shapes.repaired());
+            }
         }
         observer.observe(StepPoint2d::GridMapping, self)?;
         nodal_update(&self.grid, &mut self.workspace, dt);
@@ -461,35 +526,36 @@ fn map_direct_with<const W: usize>(
     }
 }
 
-/// Phase 1 by MLS: ρ_g, (ρv)_g, (ρb)_g and σ_g at every Gauss point
-/// (MLS paper Eqs. 18–21), then m_i = Σ_g N_i(x_g) ρ_g ω_g (22),
-/// (mv)_i = Σ_g N_i (ρv)_g ω_g (23), f_i^b = Σ_g N_i (ρb)_g ω_g (24) and
-/// f_i^int = −Σ_g ∇N_i σ_g ω_g (25).
-pub fn map_mls(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+/// Phase 1 by a reconstruction (MLS or TLS): ρ_g, (ρv)_g, (ρb)_g and σ_g
+/// at every Gauss point (MLS paper Eqs. 18–21, f̃_g = Σ_p φ_gp f_p), then
+/// m_i = Σ_g N_i(x_g) ρ_g ω_g (22), (mv)_i = Σ_g N_i (ρv)_g ω_g (23),
+/// f_i^b = Σ_g N_i (ρb)_g ω_g (24) and f_i^int = −Σ_g ∇N_i σ_g ω_g (25).
+pub fn map_reconstructed(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
     clear_nodes(ws);
     // Taken out for the loop (a move, no allocation) and put back below.
-    let Some(mut mls) = ws.mls.take() else {
+    let Some(mut shapes) = ws.reconstruction.take() else {
         return Err(Error::InvalidArgument(
-            "the MLS mapping needs MLS buffers (Mapping2d::Mls)".into(),
+            "a reconstructed mapping needs its reconstruction (Mapping2d::Mls or Tls)".into(),
         ));
     };
-    let result = map_mls_with(grid, p, ws, &mut mls);
-    ws.mls = Some(mls);
+    let result = map_reconstructed_with(grid, p, ws, shapes.as_mut());
+    ws.reconstruction = Some(shapes);
     result
 }
 
-fn map_mls_with(
+fn map_reconstructed_with(
     grid: &Grid2d,
     p: &Particles2d,
     ws: &mut Workspace2d,
-    mls: &mut MlsShapes,
+    shapes: &mut dyn GaussReconstruction,
 ) -> Result<()> {
     let gauss = GaussGrid {
         abscissae: grid.gauss_abscissae(),
         cells: grid.cells(),
         cell_size: grid.cell_size(),
     };
-    mls.evaluate(&gauss, &p.x, &p.y, &ws.along_x.first, &ws.along_y.first)?;
+    shapes.evaluate(&gauss, p, &ws.along_x.first, &ws.along_y.first)?;
+    let lists = shapes.lists();
     let omega = grid.gauss_weight();
     let ng = 2 * grid.cells();
     // The eight particle values of Eqs. (18)–(21), packed so that each
@@ -507,11 +573,14 @@ fn map_mls_with(
             s[(0, 1)],
         ];
     }
-    for (gx, gy) in MlsShapes::storage_order(grid.cells()) {
+    for (gx, gy) in storage_order(grid.cells()) {
         let g = gx + ng * gy;
         let mut q = [0.0; 8];
-        for e in mls.start[g]..mls.end[g] {
-            let (d, phi) = (&ws.particle_values[mls.particle[e] as usize], mls.phi[e]);
+        for e in lists.start[g]..lists.end[g] {
+            let (d, phi) = (
+                &ws.particle_values[lists.particle[e] as usize],
+                lists.phi[e],
+            );
             for (qi, di) in q.iter_mut().zip(d) {
                 *qi += phi * di;
             }
@@ -647,8 +716,9 @@ fn update_particles_with<const W: usize>(
 
 /// MLS paper Eqs. (31)–(33): the particles' new velocities mapped again,
 /// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (direct) or Σ_g N_i (ρv)_g^L ω_g with
-/// (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} (MLS), then v_i^L = (mv)_i^L / m_i with
-/// the walls' conditions. Writes v^L into `velocity`.
+/// (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} (MLS or TLS, the φ_gp of phase 1),
+/// then v_i^L = (mv)_i^L / m_i with the walls' conditions. Writes v^L into
+/// `velocity`.
 pub fn end_of_step_velocity(
     grid: &Grid2d,
     p: &Particles2d,
@@ -657,16 +727,17 @@ pub fn end_of_step_velocity(
 ) {
     ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
     let n = grid.nodes_per_side();
-    match (mapping, &ws.mls) {
-        (Mapping2d::Mls, Some(mls)) => {
+    match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
+        (true, Some(shapes)) => {
+            let lists = shapes.lists();
             let s = grid.gauss_stencils();
             let ng = 2 * grid.cells();
             let omega = grid.gauss_weight();
-            for (gx, gy) in MlsShapes::storage_order(grid.cells()) {
+            for (gx, gy) in storage_order(grid.cells()) {
                 let g = gx + ng * gy;
                 let mut q = [0.0; 2];
-                for e in mls.start[g]..mls.end[g] {
-                    let (k, phi) = (mls.particle[e] as usize, mls.phi[e]);
+                for e in lists.start[g]..lists.end[g] {
+                    let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
                     q[0] += phi * p.density[k] * p.velocity[k][0];
                     q[1] += phi * p.density[k] * p.velocity[k][1];
                 }

@@ -617,7 +617,12 @@ fn singular_cell(cell: usize, a: f64, b: f64, err: Error) -> Error {
         Error::Singular(m) => m,
         other => other.to_string(),
     };
-    Error::SingularCell { cell, a, b, detail }
+    Error::SingularCell {
+        cell: vec![cell],
+        lower: vec![a],
+        upper: vec![b],
+        detail,
+    }
 }
 
 /// TLS paper §5.3's repair of a degenerate cell: each fitted neighbour adds

@@ -103,6 +103,12 @@ pub enum AlignedMethod {
         /// Degree p.
         degree: usize,
     },
+    /// B-spline MPM with conservative Taylor least squares in place of MLS
+    /// ([`Mapping2d::Tls`]; TLS paper §5.2–5.5 on the cells).
+    BsmpmTls {
+        /// Degree p.
+        degree: usize,
+    },
     /// hompm's reference without grid crossing: total-Lagrangian FE with
     /// B-splines of a degree and particle quadrature
     /// ([`Formulation::TotalLagrangian`]).
@@ -125,6 +131,7 @@ impl AlignedMethod {
             AlignedMethod::BsmpmMlsPhase1 { degree } => {
                 (Basis2d::BSpline { degree }, Mapping2d::MlsPhase1)
             }
+            AlignedMethod::BsmpmTls { degree } => (Basis2d::BSpline { degree }, Mapping2d::Tls),
         }
     }
 
@@ -135,6 +142,7 @@ impl AlignedMethod {
             AlignedMethod::Bsmpm { degree } => format!("BSMPM-p{degree}"),
             AlignedMethod::BsmpmMls { degree } => format!("BSMPM-p{degree}-MLS"),
             AlignedMethod::BsmpmMlsPhase1 { degree } => format!("BSMPM-p{degree}-MLS-phase-1"),
+            AlignedMethod::BsmpmTls { degree } => format!("BSMPM-p{degree}-TLS"),
             AlignedMethod::TotalLagrangian { degree } => format!("TL-FE-p{degree}"),
         }
     }

@@ -76,18 +76,19 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
         "mapping_mass_error": sim.conservation.mass,
         "mapping_momentum_error": sim.conservation.momentum,
     });
+    let mut diagnostics = diagnostics;
+    if sim.workspace.reconstruction.is_some() {
+        let r = sim.reconstruction_record;
+        diagnostics["largest_condition_number"] = r.largest_condition.into();
+        diagnostics["most_repaired_cells"] = r.most_repaired.into();
+    }
     let doc = Run2dJson {
         scene: "aligned-vibration".into(),
         params: scene,
         params_set: s.set_name.into(),
         overridden: a.setup.overrides().names(),
         method: name(&a.setup.method),
-        mapping: if matches!(m, AlignedMethod::BsmpmMls { .. }) {
-            "mls"
-        } else {
-            "direct"
-        }
-        .into(),
+        mapping: m.parts().1.name().into(),
         mass: "lumped".into(),
         degree: if m == AlignedMethod::Mpm {
             1

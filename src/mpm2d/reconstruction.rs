@@ -1,0 +1,100 @@
+//! # Reconstructions at the Gauss points: one interface, one registration
+//!
+//! The MLS paper's phase 1 (Eqs. 18–21) and its second mapping (Eqs. 31–33)
+//! carry particle values to the 2×2 Gauss points of every cell by a
+//! reconstruction that is *linear in the data*: for any particle value f_p,
+//!
+//! f̃(x_g) = Σ_p φ_gp f_p,
+//!
+//! so a reconstruction is known by its shape functions φ_gp at the Gauss
+//! points. MLS (MLS paper Eq. 14, [`super::mls::MlsShapes`]) and Taylor least
+//! squares (TLS paper §5.2–5.5 on a rectangular cell,
+//! [`super::tls::TlsShapes`]) are two implementations of
+//! [`GaussReconstruction`]; the step ([`super::step`]) sees only this
+//! interface, and Eqs. (22)–(25) then integrate the Gauss-point values with
+//! the grid's basis.
+//!
+//! ## How to add a reconstruction
+//! 1. Implement [`GaussReconstruction`] in a module of `mpm2d` (fill
+//!    φ_gp in the order of [`storage_order`]).
+//! 2. Register it: one variant of [`super::step::Mapping2d`] and one arm
+//!    in [`super::step::Mapping2d::reconstruction`].
+//!
+//! The scene and the command line name it in their method lists
+//! (`AlignedMethod`, `--method`).
+//!
+//! Items: [`GaussGrid`], [`ShapeLists`], [`GaussReconstruction`],
+//! [`storage_order`].
+
+use super::particles::Particles2d;
+use crate::error::Result;
+
+/// The Gauss points of the grid: 2·cells abscissae per axis, g = gx + n·gy.
+pub struct GaussGrid<'a> {
+    /// The abscissae of one axis.
+    pub abscissae: &'a [f64],
+    /// Cells per direction.
+    pub cells: usize,
+    /// h.
+    pub cell_size: f64,
+}
+
+/// The shape functions φ_gp of every Gauss point g as flat lists:
+/// `start[g] .. end[g]` index `particle` and `phi`.
+#[derive(Debug, Clone, Copy)]
+pub struct ShapeLists<'a> {
+    /// Where the list of Gauss point g starts.
+    pub start: &'a [usize],
+    /// Where the list of Gauss point g ends.
+    pub end: &'a [usize],
+    /// The particles of each list.
+    pub particle: &'a [u32],
+    /// φ_gp, aligned with `particle`.
+    pub phi: &'a [f64],
+}
+
+/// A reconstruction from the particles to the Gauss points that is linear
+/// in the data, known by its shape functions φ_gp (MLS paper Eqs. 14,
+/// 18–21 and 31–33; TLS paper Eq. 13 with its constraint, Eq. 14).
+pub trait GaussReconstruction: std::fmt::Debug + Send + Sync {
+    /// Its name in labels and messages ("MLS", "TLS").
+    fn name(&self) -> &'static str;
+
+    /// φ_gp for every Gauss point from the particles at the start of a
+    /// step; `cell_x[p]`, `cell_y[p]` are the cells of particle p. Errors
+    /// when a point or cell cannot be reconstructed under the
+    /// implementation's policy.
+    fn evaluate(
+        &mut self,
+        gauss: &GaussGrid,
+        particles: &Particles2d,
+        cell_x: &[usize],
+        cell_y: &[usize],
+    ) -> Result<()>;
+
+    /// The lists of the last evaluation, stored cell by cell in
+    /// [`storage_order`].
+    fn lists(&self) -> ShapeLists<'_>;
+
+    /// The largest condition number of the last evaluation's small systems
+    /// (MLS: κ₁ of the moment matrix A; TLS: κ₁ of the cells' normal
+    /// matrices).
+    fn largest_condition(&self) -> f64;
+
+    /// How many cells (TLS) or points the last evaluation repaired; 0 for a
+    /// reconstruction without a repair.
+    fn repaired(&self) -> usize {
+        0
+    }
+}
+
+/// The Gauss points (gx, gy) in the order the lists are stored: cell by
+/// cell, the four points of a cell together. Reading the lists in this
+/// order reads `particle` and `phi` front to back.
+pub fn storage_order(cells: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..cells).flat_map(move |cy| {
+        (0..cells).flat_map(move |cx| {
+            [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| (2 * cx + i, 2 * cy + j))
+        })
+    })
+}
