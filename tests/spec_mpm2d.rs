@@ -1420,3 +1420,48 @@ fn a_cell_of_collinear_particles_is_refused_by_name_or_repaired_conservatively()
     )
     .is_err());
 }
+
+/// The nodal masses of phase 1 with one particle at x = 0.5 ∓ δ, on either
+/// side of the boundary between cells (0, ·) and (1, ·) of a 2×2 grid:
+/// the largest change of a nodal mass relative to the largest mass.
+fn mass_jump_across_a_cell_boundary(mapping: Mapping2d, delta: f64) -> f64 {
+    let masses = |x: f64| {
+        let mut p = scattered_particles(2, 3, 0.6, 9);
+        let k = (0..p.len())
+            .min_by(|&a, &b| (p.x[a] - 0.5).abs().total_cmp(&(p.x[b] - 0.5).abs()))
+            .unwrap();
+        p.x[k] = x;
+        let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 2).unwrap();
+        let settings = settings(Formulation::UpdatedLagrangian, mapping);
+        let mut sim = Simulation2d::new(grid, p, settings, None).unwrap();
+        match mapping {
+            Mapping2d::Direct => map_direct(&sim.grid, &sim.particles, &mut sim.workspace),
+            _ => map_reconstructed(&sim.grid, &sim.particles, &mut sim.workspace).unwrap(),
+        }
+        sim.workspace.mass.clone()
+    };
+    let (left, right) = (masses(0.5 - delta), masses(0.5 + delta));
+    let largest = left.iter().cloned().fold(0.0, f64::max);
+    left.iter()
+        .zip(&right)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+        / largest
+}
+
+/// Why 2D TLS stops once particles cross cells (docs/reproduction-notes.md,
+/// "2D TLS"): its fit is per cell, so a particle that moves by 2δ across a
+/// cell boundary changes the nodal masses by O(1), where the direct
+/// mapping (C¹ quadratic B-splines) and MLS (a C¹ weight over overlapping
+/// supports) change them by O(δ). Grid crossing, which BSMPM removes, comes
+/// back through the reconstruction.
+#[test]
+fn a_particle_crossing_a_cell_boundary_moves_tls_nodal_masses_by_a_jump() {
+    let delta = 1e-9;
+    let direct = mass_jump_across_a_cell_boundary(Mapping2d::Direct, delta);
+    let mls = mass_jump_across_a_cell_boundary(Mapping2d::Mls, delta);
+    let tls = mass_jump_across_a_cell_boundary(Mapping2d::Tls, delta);
+    assert!(direct < 1e-7, "direct {direct:e}");
+    assert!(mls < 1e-7, "MLS {mls:e}");
+    assert!(tls > 1e-3, "TLS {tls:e}");
+}

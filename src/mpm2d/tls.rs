@@ -223,6 +223,13 @@ impl TlsShapes {
         })
     }
 
+    /// The same with another κ₁(D) limit of a degenerate cell (default
+    /// [`TLS_2D_MAX_CONDITION`]).
+    pub fn with_max_condition(mut self, limit: f64) -> Self {
+        self.max_condition = limit;
+        self
+    }
+
     /// The engine's TLS: quadratic, conservative, reduced-basis repair.
     pub fn for_engine(cells: usize, particles: usize) -> Result<Self> {
         Self::new(

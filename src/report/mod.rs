@@ -665,10 +665,12 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
         serde_json::from_value(study).map_err(|e| Error::Io(format!("mls-aligned study: {e}")))?;
     let mut methods = mls_paper::METHODS.to_vec();
     methods.push(AlignedMethod::TotalLagrangian { degree: 2 });
+    methods.push(mls_paper::TLS_METHOD);
     let runs: Vec<RunOutcome> = study
         .convergence
         .iter()
         .chain(&study.reference)
+        .chain(&study.tls)
         .cloned()
         .collect();
     let stopped: Vec<String> = runs
@@ -685,6 +687,7 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
     mls_convergence_charts(dir, &study, &methods, &runs, &stopped)?;
     mls_history_chart(dir, &study, &methods, &runs)?;
     mls_work_precision_chart(dir, &methods, &runs)?;
+    mls_conservation_chart(dir, &runs)?;
     mls_ppc_chart(dir, &study)
 }
 
@@ -842,6 +845,68 @@ fn mls_work_precision_chart(
     })
 }
 
+/// The largest relative mapping errors of mass (line) and momentum
+/// (markers) over each run against h, for the direct mapping, MLS and
+/// TLS; a run that stopped contributes its errors up to the stop. Zeros
+/// are drawn at 1e-17 (the log axis has no zero).
+fn mls_conservation_chart(dir: &Path, runs: &[RunOutcome]) -> Result<()> {
+    let methods = [
+        mls_paper::METHODS[1],
+        mls_paper::METHODS[2],
+        mls_paper::TLS_METHOD,
+    ];
+    let errors = |o: &RunOutcome| {
+        o.run
+            .as_ref()
+            .map(|r| r.conservation)
+            .or(o.conservation_until_stop)
+    };
+    let points =
+        |m: AlignedMethod, f: fn(&crate::mpm2d::Conservation2d) -> f64| -> Vec<(f64, f64)> {
+            runs.iter()
+                .filter(|o| o.method == m)
+                .filter_map(|o| errors(o).map(|c| (1.0 / o.cells as f64, f(&c).max(1e-17))))
+                .collect()
+        };
+    let series = methods
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &m)| {
+            [
+                Series {
+                    label: format!("{}: mass", m.label()),
+                    points: points(m, |c| c.mass),
+                    style: Style::Line,
+                    color: k + 1,
+                },
+                Series {
+                    label: format!("{}: momentum", m.label()),
+                    points: points(m, |c| c.momentum),
+                    style: Style::Markers,
+                    color: k + 1,
+                },
+            ]
+        })
+        .collect();
+    charts::write(
+        dir,
+        "mls_conservation",
+        &Chart {
+            title: "Aligned vibration: largest mapping errors of mass and momentum over a run".into(),
+            x_label: "cell size h [m]".into(),
+            y_label: "relative mapping error".into(),
+            log_x: true,
+            log_y: true,
+            series,
+            hlines: vec![],
+            footnotes: vec!["Mass: |Σm_i − Σm_p|/Σm_p; momentum: |Σ(mv)_i − Σm_p v_p|/Σm_p|v_p|, the largest over every phase-1 mapping (up to the stop for a run that stopped). The floor of the direct mapping is the rounding of the sums.".into()],
+            x_categories: vec![],
+            x_range: None,
+            y_range: None,
+        },
+    )
+}
+
 /// The PPC chart's series: for each method, the error at
 /// [`mls_paper::EARLY_TIME`] (line) and at the end T (markers).
 fn ppc_series(study: &AlignedStudy) -> Vec<Series> {
@@ -859,26 +924,30 @@ fn ppc_series(study: &AlignedStudy) -> Vec<Series> {
             })
             .collect()
     };
-    mls_paper::METHODS[1..]
-        .iter()
-        .enumerate()
-        .flat_map(|(k, &m)| {
-            [
-                Series {
-                    label: format!("{} at t = {early} s", m.label()),
-                    points: at_early(m),
-                    style: Style::Line,
-                    color: k + 1,
-                },
-                Series {
-                    label: format!("{} at T", m.label()),
-                    points: aligned_points(&study.ppc, m, |o, e| (o.ppc as f64, e.displacement)),
-                    style: Style::Markers,
-                    color: k + 1,
-                },
-            ]
-        })
-        .collect()
+    [
+        mls_paper::METHODS[1],
+        mls_paper::METHODS[2],
+        mls_paper::TLS_METHOD,
+    ]
+    .iter()
+    .enumerate()
+    .flat_map(|(k, &m)| {
+        [
+            Series {
+                label: format!("{} at t = {early} s", m.label()),
+                points: at_early(m),
+                style: Style::Line,
+                color: k + 1,
+            },
+            Series {
+                label: format!("{} at T", m.label()),
+                points: aligned_points(&study.ppc, m, |o, e| (o.ppc as f64, e.displacement)),
+                style: Style::Markers,
+                color: k + 1,
+            },
+        ]
+    })
+    .collect()
 }
 
 /// One footnote per run that stopped, with its reason.
@@ -995,7 +1064,7 @@ pub fn build(
         if options.quick { ", quick mode: reduced sizes" } else { "" }
     );
     if options.only.is_empty() {
-        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n![MLS paper: displacement](charts/mls_convergence_displacement.svg)\n![MLS paper: velocity](charts/mls_convergence_velocity.svg)\n![MLS paper: stress](charts/mls_convergence_stress.svg)\n![MLS paper: error against time](charts/mls_error_history.svg)\n![MLS paper: work-precision](charts/mls_work_precision.svg)\n\n");
+        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n![MLS paper: displacement](charts/mls_convergence_displacement.svg)\n![MLS paper: velocity](charts/mls_convergence_velocity.svg)\n![MLS paper: stress](charts/mls_convergence_stress.svg)\n![MLS paper: error against time](charts/mls_error_history.svg)\n![MLS paper: work-precision](charts/mls_work_precision.svg)\n![MLS and TLS: mapping errors](charts/mls_conservation.svg)\n\n");
     }
     for r in &report.tables {
         md.push_str(&table_markdown(r, chart_of(&r.id)));

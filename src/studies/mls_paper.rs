@@ -7,7 +7,9 @@
 //! particles per cell (4, 9, 16; the paper's conclusion), the mapping errors
 //! of mass and momentum (as TLS paper Table 3 does in 1D), the cost per
 //! particle-step, the other reading of E, and hompm's diagnostic variant
-//! with MLS in phase 1 only.
+//! with MLS in phase 1 only; and hompm's BSMPM with conservative Taylor
+//! least squares in place of MLS (TLS paper §5 in 2D, issue #27), on the
+//! same sizes and in the PPC study.
 //!
 //! Every run is independent and single-threaded; one worker per rayon
 //! thread takes the next run of a longest-first list. The results are put
@@ -15,10 +17,11 @@
 //! wall times do).
 //!
 //! Items: [`AlignedStudyOptions`], [`RunOutcome`], [`AlignedStudy`],
-//! [`aligned_study`], [`METHODS`], [`EARLY_TIME`], [`PAPER_PARAMETERS`],
+//! [`aligned_study`], [`METHODS`], [`TLS_METHOD`], [`EARLY_TIME`], [`PAPER_PARAMETERS`],
 //! [`PAPER_PARTICLES_PER_SIDE`].
 
 use crate::error::Result;
+use crate::mpm2d::Conservation2d;
 use crate::scenes::aligned_vibration::{
     parameters, AlignedErrors, AlignedMethod, AlignedRun, AlignedVibration,
 };
@@ -33,6 +36,9 @@ pub const EARLY_TIME: f64 = 0.02;
 pub const PAPER_PARAMETERS: &str = "mls-paper-e1e7";
 /// Particles per side of a cell in the paper's study: 3 × 3 = 9 PPC.
 pub const PAPER_PARTICLES_PER_SIDE: usize = 3;
+
+/// BSMPM with 2D TLS in place of MLS (not in the paper).
+pub const TLS_METHOD: AlignedMethod = AlignedMethod::BsmpmTls { degree: 2 };
 
 /// The three methods of the paper's figures (quadratic B-splines).
 pub const METHODS: [AlignedMethod; 3] = [
@@ -122,6 +128,10 @@ pub struct RunOutcome {
     pub failure: Option<String>,
     /// The errors recorded up to T or up to the stop (t = 0 first).
     pub history: Vec<AlignedErrors>,
+    /// For a run that stopped: its largest mapping errors up to and
+    /// including the step that failed.
+    #[serde(default)]
+    pub conservation_until_stop: Option<Conservation2d>,
 }
 
 /// Everything the table and the charts show.
@@ -131,7 +141,7 @@ pub struct AlignedStudy {
     pub options: AlignedStudyOptions,
     /// The paper's study (E = 1e7 Pa): every method on every size, 9 PPC.
     pub convergence: Vec<RunOutcome>,
-    /// BSMPM and BSMPM with MLS at 4, 9, 16 PPC.
+    /// BSMPM, BSMPM with MLS and BSMPM with TLS at 4, 9, 16 PPC.
     pub ppc: Vec<RunOutcome>,
     /// The three methods with E = 1e8 Pa.
     pub other_young: Vec<RunOutcome>,
@@ -140,6 +150,9 @@ pub struct AlignedStudy {
     /// The total-Lagrangian reference (quadratic B-splines, no grid
     /// crossing): whether the manufactured solution is still followed at T.
     pub reference: Vec<RunOutcome>,
+    /// BSMPM with 2D TLS ([`TLS_METHOD`]) on the convergence sizes, 9 PPC.
+    #[serde(default)]
+    pub tls: Vec<RunOutcome>,
 }
 
 impl AlignedStudy {
@@ -167,9 +180,13 @@ struct Job {
 fn outcome(job: &Job, scene: &AlignedVibration, o: &AlignedStudyOptions) -> RunOutcome {
     let result =
         scene.run_until_stopped(job.method, job.cells, job.per_side, o.steps, o.record_every);
+    let mut conservation_until_stop = None;
     let (run, failure) = match result {
         Ok((run, None)) => (Some(run), None),
-        Ok((run, Some(e))) => (None, Some((run.history, e.to_string()))),
+        Ok((run, Some(e))) => {
+            conservation_until_stop = Some(run.conservation);
+            (None, Some((run.history, e.to_string())))
+        }
         Err(e) => (None, Some((Vec::new(), e.to_string()))),
     };
     let (history, failure) = match failure {
@@ -187,6 +204,7 @@ fn outcome(job: &Job, scene: &AlignedVibration, o: &AlignedStudyOptions) -> RunO
         failure,
         run,
         history,
+        conservation_until_stop,
     }
 }
 
@@ -211,7 +229,7 @@ fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
     add(PAPER_PARAMETERS, &METHODS, &o.sizes, &paper, 0);
     add(
         PAPER_PARAMETERS,
-        &METHODS[1..],
+        &[METHODS[1], METHODS[2], TLS_METHOD],
         &[o.ppc_cells],
         &o.ppc_per_side,
         1,
@@ -231,6 +249,7 @@ fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
         &paper,
         4,
     );
+    add(PAPER_PARAMETERS, &[TLS_METHOD], &o.sizes, &paper, 5);
     jobs
 }
 
@@ -272,11 +291,11 @@ pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
         });
     let mut results = done.into_inner().unwrap_or_default();
     results.sort_by_key(|(i, _)| *i);
-    let mut groups: [Vec<RunOutcome>; 5] = Default::default();
+    let mut groups: [Vec<RunOutcome>; 6] = Default::default();
     for (i, r) in results {
         groups[jobs[i].group].push(r);
     }
-    let [convergence, ppc, other_young, phase1, reference] = groups;
+    let [convergence, ppc, other_young, phase1, reference, tls] = groups;
     Ok(AlignedStudy {
         options: o.clone(),
         convergence,
@@ -284,5 +303,6 @@ pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
         other_young,
         phase1,
         reference,
+        tls,
     })
 }

@@ -193,7 +193,16 @@ fn outcome_note(o: &RunOutcome, early: f64) -> String {
                 .find(|e| (e.time - early).abs() < 1e-9)
                 .map(|e| format!("; at t = {early} s: {}", errors_line(e)))
                 .unwrap_or_default();
-            format!("{head}: stopped: {f}{early_line}")
+            let mapping = o
+                .conservation_until_stop
+                .map(|c| {
+                    format!(
+                        "; largest mapping errors until the stop: mass {:.1e}, momentum {:.1e}",
+                        c.mass, c.momentum
+                    )
+                })
+                .unwrap_or_default();
+            format!("{head}: stopped: {f}{early_line}{mapping}")
         }
         (None, None) => format!("{head}: not run"),
     }
@@ -221,6 +230,7 @@ fn notes(study: &AlignedStudy) -> Result<Vec<String>> {
         &study.other_young,
         &study.phase1,
         &study.reference,
+        &study.tls,
     ];
     notes.extend(
         groups
