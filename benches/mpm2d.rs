@@ -1,5 +1,5 @@
 //! Cost of the 2D step of the MLS paper (bilinear MPM, quadratic BSMPM,
-//! quadratic BSMPM with MLS) on the aligned vibration with 9 particles per
+//! quadratic BSMPM with MLS or with 2D TLS) on the aligned vibration with 9 particles per
 //! cell at 16 and 64 cells per direction (2 304 and 36 864 particles), body
 //! force included.
 //!
@@ -22,6 +22,8 @@ const CASES: &[&str] = &[
     "bsmpm2/64",
     "bsmpm2-mls/16",
     "bsmpm2-mls/64",
+    "bsmpm2-tls/16",
+    "bsmpm2-tls/64",
 ];
 
 #[divan::bench(args = CASES, sample_count = 8, sample_size = 1)]
@@ -30,7 +32,8 @@ fn particle_steps(bencher: divan::Bencher, case: &str) {
     let method = match method {
         "mpm" => AlignedMethod::Mpm,
         "bsmpm2" => AlignedMethod::Bsmpm { degree: 2 },
-        _ => AlignedMethod::BsmpmMls { degree: 2 },
+        "bsmpm2-mls" => AlignedMethod::BsmpmMls { degree: 2 },
+        _ => AlignedMethod::BsmpmTls { degree: 2 },
     };
     let cells: usize = cells.parse().expect("cells");
     let scene = parameters("mls-paper-e1e7").expect("known set");
