@@ -15,13 +15,21 @@
 //! the grid's basis.
 //!
 //! ## How to add a reconstruction
-//! 1. Implement [`GaussReconstruction`] in a module of `mpm2d` (fill
-//!    φ_gp in the order of [`storage_order`]).
-//! 2. Register it: one variant of [`super::step::Mapping2d`] and one arm
-//!    in [`super::step::Mapping2d::reconstruction`].
+//! 1. Implement [`GaussReconstruction`] in a new module of `mpm2d` (fill
+//!    φ_gp in the order of [`storage_order`]) and declare it in
+//!    `mpm2d/mod.rs`.
+//! 2. Register it in src/mpm2d/step.rs: one variant of
+//!    [`super::step::Mapping2d`], its arm in
+//!    [`super::step::Mapping2d::reconstruction`] and its name in
+//!    [`super::step::Mapping2d::name`]. The step maps every mapping but the
+//!    direct one through the registered reconstruction, in both mappings of
+//!    a step unless the mapping is a phase-1-only diagnostic.
 //!
-//! The scene and the command line name it in their method lists
-//! (`AlignedMethod`, `--method`).
+//! That is three files for the engine (TLS was added so: tls.rs, step.rs,
+//! mod.rs). To offer it as a method of the aligned vibration, its name goes
+//! into the scene's and the command line's method lists (`AlignedMethod`,
+//! `MethodArg` and the setup's mapping of one to the other): three files
+//! more, a closed list that issue #26 would fold into one.
 //!
 //! Items: [`GaussGrid`], [`ShapeLists`], [`GaussReconstruction`],
 //! [`storage_order`].

@@ -105,7 +105,7 @@ impl Mapping2d {
     /// Whether the end-of-step velocity (Eqs. 31–33) is mapped through the
     /// reconstruction too (every reconstruction but the phase-1 diagnostic).
     pub fn reconstructs_end_of_step(self) -> bool {
-        matches!(self, Mapping2d::Mls | Mapping2d::Tls)
+        !matches!(self, Mapping2d::Direct | Mapping2d::MlsPhase1)
     }
 }
 
@@ -338,9 +338,8 @@ impl Simulation2d {
             match self.settings.mapping {
                 Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
                 Mapping2d::Direct => map_direct(grid, p, ws),
-                Mapping2d::Mls | Mapping2d::MlsPhase1 | Mapping2d::Tls => {
-                    map_reconstructed(grid, p, ws)?
-                }
+                // Every other mapping is a registered reconstruction.
+                _ => map_reconstructed(grid, p, ws)?,
             }
             record_conservation(p, ws, &mut self.conservation);
             if let Some(shapes) = &ws.reconstruction {

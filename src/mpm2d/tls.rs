@@ -332,11 +332,12 @@ fn normal_solve<const M: usize>(
     }
     // Conservative TLS (skip = 1): the four Gauss points have equal
     // weights and integrate every ψ_i, i ≥ 2, to zero, so Σ_q ψ̂(x_q) = 0
-    // and the mean of the z_q is zero in exact arithmetic. Its rounding,
-    // amplified by D⁻¹ in an ill-conditioned cell, would spoil
-    // Σ_g ω_g φ_gp = V_p; subtracting the computed mean keeps conservation
-    // at rounding whatever κ(D) is. (Unconstrained TLS fits ψ₁ too, whose
-    // z_q have a non-zero mean; it conserves nothing to keep.)
+    // and the mean of the z_q is zero in exact arithmetic; the computed
+    // mean (its rounding, amplified by D⁻¹) is removed. This is rounding
+    // hygiene with no measured effect: the rounding of the φ_gp themselves,
+    // of size ε·max|φ_gp|, remains, and it grows with κ(D)
+    // (docs/reproduction-notes.md, "BSMPM with Taylor least squares in
+    // 2D"). Unconstrained TLS fits ψ₁ too, whose z_q have a non-zero mean.
     for i in (skip..skip + M).filter(|_| skip == 1) {
         let mean = 0.25 * z.iter().map(|zq| zq[i]).sum::<f64>();
         z.iter_mut().for_each(|zq| zq[i] -= mean);
