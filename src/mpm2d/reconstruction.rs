@@ -31,7 +31,7 @@
 //! `MethodArg` and the setup's mapping of one to the other): three files
 //! more, a closed list that issue #26 would fold into one.
 //!
-//! Items: [`GaussGrid`], [`ShapeLists`], [`GaussReconstruction`],
+//! Items: [`GaussGrid`], [`ShapeLists`], [`ShapeBuffers`], [`GaussReconstruction`],
 //! [`storage_order`].
 
 use super::particles::Particles2d;
@@ -59,6 +59,31 @@ pub struct ShapeLists<'a> {
     pub particle: &'a [u32],
     /// φ_gp, aligned with `particle`.
     pub phi: &'a [f64],
+}
+
+/// Owned lists behind [`ShapeLists`], for a reconstruction to fill.
+#[derive(Debug, Clone, Default)]
+pub struct ShapeBuffers {
+    /// Where the list of Gauss point g starts.
+    pub start: Vec<usize>,
+    /// Where the list of Gauss point g ends.
+    pub end: Vec<usize>,
+    /// The particles of each list.
+    pub particle: Vec<u32>,
+    /// φ_gp, aligned with `particle`.
+    pub phi: Vec<f64>,
+}
+
+impl ShapeBuffers {
+    /// The lists, borrowed.
+    pub fn lists(&self) -> ShapeLists<'_> {
+        ShapeLists {
+            start: &self.start,
+            end: &self.end,
+            particle: &self.particle,
+            phi: &self.phi,
+        }
+    }
 }
 
 /// A reconstruction from the particles to the Gauss points that is linear

@@ -52,7 +52,7 @@
 //! [`TaylorBasis2d`], [`TlsShapes`].
 
 use super::particles::Particles2d;
-use super::reconstruction::{GaussGrid, GaussReconstruction, ShapeLists};
+use super::reconstruction::{GaussGrid, GaussReconstruction, ShapeBuffers, ShapeLists};
 use crate::error::{Error, Result};
 use crate::reconstruct::taylor::{CellBins, DegenerateCells};
 use nalgebra::SMatrix;
@@ -165,10 +165,7 @@ pub struct TlsShapes {
     variant: TlsVariant,
     degenerate: DegenerateCells,
     max_condition: f64,
-    start: Vec<usize>,
-    end: Vec<usize>,
-    particle: Vec<u32>,
-    phi: Vec<f64>,
+    shapes: ShapeBuffers,
     largest_condition: f64,
     repaired: usize,
     bins: CellBins,
@@ -211,11 +208,13 @@ impl TlsShapes {
             variant,
             degenerate,
             max_condition: TLS_2D_MAX_CONDITION,
-            start: vec![0; gauss_points],
-            end: vec![0; gauss_points],
-            // Each particle appears in the four lists of its cell.
-            particle: Vec::with_capacity(4 * particles),
-            phi: Vec::with_capacity(4 * particles),
+            shapes: ShapeBuffers {
+                start: vec![0; gauss_points],
+                end: vec![0; gauss_points],
+                // Each particle appears in the four lists of its cell.
+                particle: Vec::with_capacity(4 * particles),
+                phi: Vec::with_capacity(4 * particles),
+            },
             largest_condition: 0.0,
             repaired: 0,
             bins: CellBins::default(),
@@ -364,8 +363,8 @@ impl GaussReconstruction for TlsShapes {
         self.bins.fill(cells * cells, n, |k| {
             Ok((cell_x[k] + cells * cell_y[k], None))
         })?;
-        self.particle.clear();
-        self.phi.clear();
+        self.shapes.particle.clear();
+        self.shapes.phi.clear();
         self.largest_condition = 0.0;
         self.repaired = 0;
         let ng = 2 * cells;
@@ -394,25 +393,25 @@ impl GaussReconstruction for TlsShapes {
                 let area = basis.area();
                 for (q, (i, j)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
                     let g = (2 * cx + i) + ng * (2 * cy + j);
-                    let first = self.particle.len();
-                    self.start[g] = first;
+                    let first = self.shapes.particle.len();
+                    self.shapes.start[g] = first;
                     if let Some(s) = &solution {
                         let z = &s.z[q];
                         let mut sum = 0.0;
                         for (&k, row) in members.iter().zip(&self.rows) {
                             let r: f64 = z.iter().zip(row).map(|(a, b)| a * b).sum();
                             sum += r;
-                            self.particle.push(k as u32);
-                            self.phi.push(r);
+                            self.shapes.particle.push(k as u32);
+                            self.shapes.phi.push(r);
                         }
                         if self.variant == TlsVariant::Conservative {
                             let rest = 1.0 - sum;
-                            for (phi, &k) in self.phi[first..].iter_mut().zip(members) {
+                            for (phi, &k) in self.shapes.phi[first..].iter_mut().zip(members) {
                                 *phi += particles.volume[k] / area * rest;
                             }
                         }
                     }
-                    self.end[g] = self.particle.len();
+                    self.shapes.end[g] = self.shapes.particle.len();
                 }
             }
         }
@@ -420,12 +419,7 @@ impl GaussReconstruction for TlsShapes {
     }
 
     fn lists(&self) -> ShapeLists<'_> {
-        ShapeLists {
-            start: &self.start,
-            end: &self.end,
-            particle: &self.particle,
-            phi: &self.phi,
-        }
+        self.shapes.lists()
     }
 
     fn largest_condition(&self) -> f64 {
