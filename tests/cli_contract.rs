@@ -282,6 +282,15 @@ fn the_2d_run_prints_tensor_fields_and_refuses_what_it_cannot_do() {
     ] {
         assert!(v["diagnostics"][key].as_f64().unwrap().is_finite(), "{key}");
     }
+    // BSMPM with 2D TLS: its mapping is named, it conserves the mass to
+    // the rounding of the sums, and it reports its repairs and κ.
+    let out = run("run aligned-vibration --method bsmpm-tls --cells 4 --steps 5 --json").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    assert_eq!(v["mapping"], "tls");
+    let d = &v["diagnostics"];
+    assert!(d["mapping_mass_error"].as_f64().unwrap() < 1e-13, "{d}");
+    assert_eq!(d["most_repaired_cells"], 0);
+    assert!(d["largest_condition_number"].as_f64().unwrap() >= 1.0);
     for (args, needle) in [
         (
             "run aligned-vibration --method ddmpm --steps 1",
@@ -294,6 +303,14 @@ fn the_2d_run_prints_tensor_fields_and_refuses_what_it_cannot_do() {
         (
             "run vibrating-bar --method bsmpm-mls",
             "only in the 2D scene",
+        ),
+        (
+            "run vibrating-bar --method bsmpm-tls",
+            "only in the 2D scene",
+        ),
+        (
+            "run aligned-vibration --method bsmpm-tls --degree 0 --steps 1",
+            "needs --degree ≥ 1",
         ),
         (
             "run aligned-vibration --params nope --steps 1",

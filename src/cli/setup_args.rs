@@ -365,8 +365,8 @@ fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> R
 /// Memory: about 400 bytes per particle, 100 per node, and for MLS 12
 /// bytes per (Gauss point, particle) pair, about 40 per particle (up to 7
 /// times that where the material is compressed); 250 bytes of JSON per
-/// particle. Time: the divan benchmark's 60 (MPM), 110 (BSMPM p = 2) and
-/// 500 (MLS) ns per particle-step, doubled for the compressed states and
+/// particle. Time: the divan benchmark's 60 (MPM), 110 (BSMPM p = 2),
+/// 500 (MLS) and 250 (TLS) ns per particle-step, doubled for the compressed states and
 /// scaled by (p + 1)²/9 for other degrees.
 fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
     let degree = match s.method {
@@ -387,7 +387,8 @@ fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
     let width2 = (degree as f64 + 1.0).powi(2) / 9.0;
     let ns = match s.method {
         AlignedMethod::Mpm => 60.0,
-        AlignedMethod::BsmpmMls { .. } | AlignedMethod::BsmpmTls { .. } => 500.0 * width2,
+        AlignedMethod::BsmpmMls { .. } => 500.0 * width2,
+        AlignedMethod::BsmpmTls { .. } => 250.0 * width2,
         _ => 110.0 * width2,
     };
     limits.check_time(what, 2.0 * ns * 1e-9 * particles * s.steps as f64)

@@ -270,7 +270,7 @@ pub const EQUATIONS_2D: [Equation; 15] = [
     eq2(
         "mls-18-21",
         "[ρ, ρv, ρb, σ]_g",
-        "the MLS values at the Gauss points",
+        "the values at the Gauss points, by MLS or (bsmpm-tls) TLS",
         "MLS paper Eqs. (18)-(21)",
         IndexKind::GaussPoint,
         8,

@@ -69,14 +69,13 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
     let sim = run_2d(s)?;
     let errors = scene.errors(&sim)?;
     let p = &sim.particles;
-    let diagnostics = serde_json::json!({
+    let mut diagnostics = serde_json::json!({
         "rms_displacement": errors.displacement,
         "rms_velocity": errors.velocity,
         "rms_stress": errors.stress,
         "mapping_mass_error": sim.conservation.mass,
         "mapping_momentum_error": sim.conservation.momentum,
     });
-    let mut diagnostics = diagnostics;
     if sim.workspace.reconstruction.is_some() {
         let r = sim.reconstruction_record;
         diagnostics["largest_condition_number"] = r.largest_condition.into();
