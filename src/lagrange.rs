@@ -135,6 +135,7 @@ impl LagrangeBasis {
     }
 
     /// The element k with x_k ≤ x < x_{k+1}; the right end belongs to the last.
+    #[inline]
     pub fn element_of(&self, x: f64) -> Result<usize> {
         finite("evaluation point", x)?;
         if x < self.a || x > self.b {
@@ -156,6 +157,7 @@ impl LagrangeBasis {
     /// same numbers as [`Basis1d::local`] with order 1. Returns the global
     /// index of the first function. Thesis §5.1–5.2: N_i(x) = N̂_i(T⁻¹(x)),
     /// ∇N_i = N̂_i'(ξ)/h.
+    #[inline]
     pub fn evaluate_into(
         &self,
         x: f64,

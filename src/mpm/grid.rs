@@ -34,7 +34,7 @@
 //!
 //! Items: [`NodeIntegrals`], [`Method`], [`Shape`], [`Grid`].
 
-use crate::basis::{Basis1d, Stencils};
+use crate::basis::{with_width, Basis1d, Stencils};
 use crate::error::{Error, Result};
 use crate::lagrange::{LagrangeBasis, LagrangeOrder};
 use crate::quadrature::GaussLegendre;
@@ -487,6 +487,21 @@ impl Grid {
         scratch: &mut SpanScratch,
     ) -> Result<()> {
         stencils.resize(xs.len());
+        if let (GridBasis::BSpline(kv), None) = (&self.basis, &self.dual) {
+            // The step's hot path: the degree is dispatched once per batch,
+            // and each point's triangle is evaluated in registers.
+            return with_width!(
+                stencils.width(),
+                fill_bspline_stencils::<W>(kv, xs, stencils, scratch)
+            );
+        }
+        if let (GridBasis::Lagrange(l), None) = (&self.basis, &self.dual) {
+            for (k, &x) in xs.iter().enumerate() {
+                let (v, g) = stencils.slots_mut(k);
+                stencils.first[k] = l.evaluate_into(x, v, g)?;
+            }
+            return Ok(());
+        }
         for (k, &x) in xs.iter().enumerate() {
             let (v, g) = stencils.slots_mut(k);
             let first = self.evaluate(x, scratch, v, g)?;
@@ -511,6 +526,36 @@ impl Grid {
             gradients: s.gradients,
         })
     }
+}
+
+/// [`Grid::fill_stencils`] on a B-spline grid of width `W` = p + 1 (0: any
+/// width): [`KnotVector::values_and_gradients_fixed`] at every point, the
+/// same numbers as [`Grid::evaluate`].
+fn fill_bspline_stencils<const W: usize>(
+    kv: &KnotVector,
+    xs: &[f64],
+    stencils: &mut Stencils,
+    scratch: &mut SpanScratch,
+) -> Result<()> {
+    if W == 0 {
+        for (k, &x) in xs.iter().enumerate() {
+            let (v, g) = stencils.slots_mut(k);
+            stencils.first[k] = kv.values_and_gradients_into(x, scratch, v, g)?;
+        }
+        return Ok(());
+    }
+    let Stencils {
+        first,
+        values,
+        gradients,
+        ..
+    } = stencils;
+    let rows = values.as_chunks_mut::<W>().0.iter_mut();
+    let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
+    for ((&x, f), (v, g)) in xs.iter().zip(first.iter_mut()).zip(rows) {
+        *f = kv.values_and_gradients_fixed::<W>(x, v, g)?;
+    }
+    Ok(())
 }
 
 /// DDMPM, TLS paper §3.3, on P1 element k with values φ_k, φ_{k+1} and

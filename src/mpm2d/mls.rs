@@ -237,10 +237,12 @@ impl MlsShapes {
                 limit: MLS_MAX_CONDITION,
             });
         }
-        for &(k, w, d) in &self.local[q][..self.count[q]] {
-            self.particle.push(k);
-            self.phi.push(w * (z[0] + z[1] * d[0] + z[2] * d[1]));
-        }
+        // Two extends, not a push per entry: one capacity check each, and
+        // z stays in registers.
+        let gathered = &self.local[q][..self.count[q]];
+        self.particle.extend(gathered.iter().map(|&(k, _, _)| k));
+        let phi = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
+        self.phi.extend(gathered.iter().map(phi));
         Ok(())
     }
 }

@@ -751,12 +751,10 @@ pub fn end_of_step_velocity(
                 );
             }
         }
-        _ => {
-            for k in 0..p.len() {
-                let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
-                scatter_vector(n, &ws.along_x, k, &ws.along_y, k, mv, &mut ws.momentum);
-            }
-        }
+        _ => with_width!(
+            grid.stencil_width(),
+            map_particle_momentum_with::<W>(grid, p, ws)
+        ),
     }
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
@@ -767,6 +765,31 @@ pub fn end_of_step_velocity(
         };
     }
     wall_conditions(n, &mut ws.velocity);
+}
+
+/// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (Eq. 31 with the particles as the
+/// quadrature points) into `momentum`, for stencil width `W` (0: any width).
+fn map_particle_momentum_with<const W: usize>(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+) {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
+        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
+        for (b, &nb) in vy.iter().enumerate() {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let momentum = &mut ws.momentum[row..row + w];
+            for a in 0..w {
+                let nn = vx[a] * nb;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+            }
+        }
+    }
 }
 
 /// out_i += N_i q over the tensor stencil of point kx of `sx` and ky of `sy`.

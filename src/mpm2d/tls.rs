@@ -397,13 +397,15 @@ impl GaussReconstruction for TlsShapes {
                     self.shapes.start[g] = first;
                     if let Some(s) = &solution {
                         let z = &s.z[q];
-                        let mut sum = 0.0;
-                        for (&k, row) in members.iter().zip(&self.rows) {
-                            let r: f64 = z.iter().zip(row).map(|(a, b)| a * b).sum();
-                            sum += r;
-                            self.shapes.particle.push(k as u32);
-                            self.shapes.phi.push(r);
-                        }
+                        // r_gp = z_gᵀ ψ̂(x_p), appended by two extends (one
+                        // capacity check each, not one per entry).
+                        let r =
+                            |row: &[f64; 6]| -> f64 { z.iter().zip(row).map(|(a, b)| a * b).sum() };
+                        self.shapes
+                            .particle
+                            .extend(members.iter().map(|&k| k as u32));
+                        self.shapes.phi.extend(self.rows.iter().map(r));
+                        let sum = self.shapes.phi[first..].iter().fold(0.0, |s, r| s + r);
                         if self.variant == TlsVariant::Conservative {
                             let rest = 1.0 - sum;
                             for (phi, &k) in self.shapes.phi[first..].iter_mut().zip(members) {

@@ -257,6 +257,21 @@ impl KnotVector {
         values: &mut [f64],
         gradients: &mut [f64],
     ) -> Result<usize> {
+        macro_rules! fixed {
+            ($w:literal) => {{
+                let (v, g) = (&mut values[..$w], &mut gradients[..$w]);
+                let (v, g) = (v.try_into(), g.try_into());
+                if let (Ok(v), Ok(g)) = (v, g) {
+                    return self.values_and_gradients_fixed::<$w>(x, v, g);
+                }
+            }};
+        }
+        match self.degree() {
+            1 => fixed!(2),
+            2 => fixed!(3),
+            3 => fixed!(4),
+            _ => {}
+        }
         let span = self.find_span(x)?;
         let p = self.degree();
         let t = self.knots();
@@ -281,6 +296,66 @@ impl KnotVector {
             }
             if r < p {
                 d += -1.0 / ndu[p * w + r] * ndu[r * w + p - 1];
+            }
+            gradients[r] = d * pf;
+        }
+        Ok(span - p)
+    }
+
+    /// [`KnotVector::values_and_gradients_into`] for a degree known when
+    /// compiling, W = p + 1 (the step's hot path: the triangle lives in
+    /// registers, not in a scratch). The same operations in the same order as
+    /// [`cox_de_boor_triangle`] and the derivative of Eq. (4.23), so the numbers
+    /// are bit for bit those of the general code (tests/properties_bspline.rs).
+    /// The caller guarantees W = p + 1.
+    #[inline]
+    pub fn values_and_gradients_fixed<const W: usize>(
+        &self,
+        x: f64,
+        values: &mut [f64; W],
+        gradients: &mut [f64; W],
+    ) -> Result<usize> {
+        debug_assert_eq!(W, self.degree() + 1);
+        let span = self.find_span(x)?;
+        let p = W - 1;
+        let t = self.knots();
+        // ndu[r][j] as in cox_de_boor_triangle, with left/right of A2.2.
+        let mut ndu = [[0.0; W]; W];
+        let (mut left, mut right) = ([0.0; W], [0.0; W]);
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = x - t[span + 1 - j];
+            right[j] = t[span + j] - x;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        for r in 0..W {
+            values[r] = ndu[r][p];
+        }
+        if p == 0 {
+            gradients[0] = 0.0;
+            return Ok(span);
+        }
+        let pf = p as f64;
+        // 1/ndu[p][r], each used by functions r and r + 1: one division
+        // instead of two, and −1/a = −(1/a) exactly, so no bit changes.
+        let mut inverse = [0.0; W];
+        for r in 0..p {
+            inverse[r] = 1.0 / ndu[p][r];
+        }
+        for r in 0..W {
+            let mut d = 0.0;
+            if r >= 1 {
+                d = inverse[r - 1] * ndu[r - 1][p - 1];
+            }
+            if r < p {
+                d += -inverse[r] * ndu[r][p - 1];
             }
             gradients[r] = d * pf;
         }

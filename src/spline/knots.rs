@@ -234,6 +234,7 @@ impl KnotVector {
 
     /// The 0-based index i of the span with ξ_i ≤ x < ξ_{i+1}, p ≤ i < n. The
     /// right end of the domain belongs to the last non-empty span.
+    #[inline]
     pub fn find_span(&self, x: f64) -> Result<usize> {
         self.check_point(x)?;
         let (_, b) = self.domain();
