@@ -27,14 +27,20 @@ run_bench() { # dir target-dir output
 # case → ns per particle-step, from divan's tree: a case line, then its
 # throughput line whose third column is the median.
 parse() {
+  # Fields are split at '│'; the throughput fields are fastest, slowest,
+  # median, mean, so the median is the third field that holds "item/s"
+  # (nested groups prefix their lines with more '│' columns).
   awk -F'│' '
-    /Mitem\/s|Kitem\/s|Gitem\/s|item\/s/ && name != "" {
-      split($3, m, " "); v = m[1]; u = m[2];
+    /item\/s/ && name != "" {
+      seen = 0
+      for (i = 1; i <= NF; i++) if ($i ~ /item\/s/ && ++seen == 3) {
+        split($i, m, " "); v = m[1]; u = m[2]
+      }
       f = (u ~ /^G/) ? 1e9 : (u ~ /^M/) ? 1e6 : (u ~ /^K/) ? 1e3 : 1;
       printf "%s %.1f\n", name, 1e9 / (v * f); name = ""; next
     }
     /[├╰]─ / {
-      line = $1; sub(/.*[├╰]─ /, "", line); split(line, w, " ");
+      line = $0; sub(/.*─ /, "", line); split(line, w, " ");
       if (w[1] ~ /\//) name = w[1]
     }' "$1"
 }
