@@ -33,7 +33,10 @@ fn table(kv: &KnotVector) -> String {
 #[rstest]
 #[case::book_fig_4_1("book_fig_4_1", vec![0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0])]
 #[case::thesis_fig_6_2("thesis_fig_6_2", vec![0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 5.0, 5.0, 5.0])]
-fn quadratic_bspline_values(#[case] name: &str, #[case] knots: Vec<f64>) {
+fn quadratic_bspline_tables_of_book_fig_4_1_and_thesis_fig_6_2_are_unchanged(
+    #[case] name: &str,
+    #[case] knots: Vec<f64>,
+) {
     let kv = KnotVector::new(knots, 2).unwrap();
     insta::with_settings!({snapshot_path => "../golden/snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!(format!("basis_{name}"), table(&kv));
@@ -43,7 +46,7 @@ fn quadratic_bspline_values(#[case] name: &str, #[case] knots: Vec<f64>) {
 /// Hand values for the book's Fig. 4.1 basis at x = 1/2 (middle of the
 /// middle span): φ = (0, 1/8, 3/4, 1/8, 0), φ' = (0, −3/2, 0, 3/2, 0).
 #[test]
-fn book_fig_4_1_by_hand() {
+fn book_fig_4_1_basis_at_the_middle_equals_the_hand_values() {
     let kv = KnotVector::new(vec![0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0], 2).unwrap();
     let v = kv.dense_values(0.5).unwrap();
     let d = kv.dense_derivatives(0.5).unwrap();

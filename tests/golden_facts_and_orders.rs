@@ -10,7 +10,7 @@ use hompm::tables::{self, RunOptions, Status};
 /// displacement and velocity. The stated third order in stress is not
 /// reproduced (2.03; docs/reproduction.md).
 #[test]
-fn tls_fig6_orders() {
+fn tls_fig_6_orders_reproduce_except_third_order_in_stress() {
     let report = tables::run(
         &tables::find("tls-fig6").unwrap(),
         &RunOptions {
@@ -40,7 +40,7 @@ fn tls_fig6_orders() {
 
 /// Text facts: positions, Courant numbers, strains, crossings.
 #[test]
-fn thesis_facts() {
+fn thesis_text_facts_reproduce_as_their_sentences_state_them() {
     let report = tables::run(
         &tables::find("thesis-facts").unwrap(),
         &RunOptions::default(),

@@ -28,3 +28,48 @@ fn every_published_file_is_well_formed() {
         assert!(p.count() > 0);
     }
 }
+
+/// The regression baseline (golden/reproduced.json) names each reproduced
+/// cell by its row and column labels: a table that gains a row above the
+/// others keeps its baseline, and a cell that stops reproducing, or whose
+/// row disappears, is named by its labels.
+#[test]
+fn the_regression_baseline_follows_cells_by_label_not_position() {
+    use hompm::report::{baseline_of, regressions};
+    let spec = tables::find("thesis-a1").unwrap();
+    let report = tables::run(&spec, &RunOptions::default()).unwrap();
+    let baseline = baseline_of(std::slice::from_ref(&report));
+    let cells = &baseline["thesis-a1"];
+    assert_eq!(cells.len(), 20);
+    assert_eq!(
+        cells[0],
+        [report.row_labels[0].clone(), report.col_labels[0].clone()]
+    );
+
+    let mut extended = report.clone();
+    let width = extended.col_labels.len();
+    extended.row_labels.insert(0, "a new first row".into());
+    extended.status.insert(0, vec![Status::Deviates; width]);
+    assert_eq!(
+        regressions(std::slice::from_ref(&extended), &baseline),
+        Vec::<String>::new()
+    );
+
+    let mut changed = report.clone();
+    changed.status[1][2] = Status::Deviates;
+    let expected = format!(
+        "thesis-a1 [{} / {}]",
+        report.row_labels[1], report.col_labels[2]
+    );
+    assert_eq!(
+        regressions(std::slice::from_ref(&changed), &baseline),
+        vec![expected]
+    );
+
+    let mut shorter = report.clone();
+    let gone = shorter.row_labels.remove(0);
+    shorter.status.remove(0);
+    let named = regressions(std::slice::from_ref(&shorter), &baseline);
+    assert_eq!(named.len(), width);
+    assert!(named.iter().all(|n| n.contains(&gone)), "{named:?}");
+}

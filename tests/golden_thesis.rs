@@ -37,21 +37,21 @@ fn check(id: &str) {
 
 /// Table 5.1 (RMS, P1 MPM) and 5.2 (orders): all 19 numbers.
 #[test]
-fn thesis_5_linear_lagrange() {
+fn thesis_tables_5_1_and_5_2_reproduce_for_linear_lagrange_mpm() {
     check("thesis-5.1");
     check("thesis-5.2");
 }
 
 /// Table 6.2 (RMS, quadratic B-spline MPM) and 6.1 (orders): all 19 numbers.
 #[test]
-fn thesis_6_bspline() {
+fn thesis_tables_6_1_and_6_2_reproduce_for_quadratic_bspline_mpm() {
     check("thesis-6.2");
     check("thesis-6.1");
 }
 
 /// Table 7.1 (RMS, spline-based MPM) and 7.2 (orders): all 19 numbers.
 #[test]
-fn thesis_7_spline_based() {
+fn thesis_tables_7_1_and_7_2_reproduce_for_spline_based_mpm() {
     check("thesis-7.1");
     check("thesis-7.2");
 }

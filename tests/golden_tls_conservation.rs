@@ -27,7 +27,7 @@ fn tls_mapping_conserves_to_machine_precision() {
 /// match the paper to < 0.3 %. The four deviating entries are explained in
 /// docs/reproduction.md.
 #[test]
-fn tls_3_table() {
+fn tls_table_3_tls_errors_are_at_machine_precision_and_three_cubic_spline_errors_reproduce() {
     let report = tables::run(
         &tables::find("tls-3").unwrap(),
         &RunOptions {

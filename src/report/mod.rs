@@ -82,8 +82,10 @@ pub struct ReportJson {
     pub studies: BTreeMap<String, serde_json::Value>,
 }
 
-/// The cells that reproduced, per table: the regression baseline.
-pub type Baseline = BTreeMap<String, Vec<[usize; 2]>>;
+/// The cells that reproduced, per table: the regression baseline. Each cell
+/// is named by its row and column labels, as the tables couple by label,
+/// so a table whose rows are reordered or extended keeps its baseline.
+pub type Baseline = BTreeMap<String, Vec<[String; 2]>>;
 
 /// The reproduced cells of a set of reports, except measured wall times
 /// ([`Tolerance::Timing`]), which vary from run to run.
@@ -101,7 +103,7 @@ pub fn baseline_of(reports: &[TableReport]) -> Baseline {
                         .filter(move |(j, s)| {
                             **s == Status::Reproduced && r.tolerance[i][*j] != Tolerance::Timing
                         })
-                        .map(move |(j, _)| [i, j])
+                        .map(move |(j, _)| [r.row_labels[i].clone(), r.col_labels[j].clone()])
                 })
                 .collect();
             (r.id.clone(), cells)
@@ -109,21 +111,17 @@ pub fn baseline_of(reports: &[TableReport]) -> Baseline {
         .collect()
 }
 
-/// Cells marked reproduced in the baseline that no longer reproduce.
+/// Cells marked reproduced in the baseline that no longer reproduce, or
+/// whose row or column label the table no longer has.
 pub fn regressions(reports: &[TableReport], baseline: &Baseline) -> Vec<String> {
     let mut out = Vec::new();
     for r in reports {
-        if let Some(cells) = baseline.get(&r.id) {
-            for &[i, j] in cells {
-                let ok = r.status.get(i).and_then(|row| row.get(j)) == Some(&Status::Reproduced);
-                if !ok {
-                    out.push(format!(
-                        "{} [{} / {}]",
-                        r.id,
-                        r.row_labels.get(i).cloned().unwrap_or_default(),
-                        r.col_labels.get(j).cloned().unwrap_or_default()
-                    ));
-                }
+        for [row, col] in baseline.get(&r.id).into_iter().flatten() {
+            let i = r.row_labels.iter().position(|l| l == row);
+            let j = r.col_labels.iter().position(|l| l == col);
+            let status = i.zip(j).and_then(|(i, j)| r.status.get(i)?.get(j));
+            if status != Some(&Status::Reproduced) {
+                out.push(format!("{} [{row} / {col}]", r.id));
             }
         }
     }
