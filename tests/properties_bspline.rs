@@ -53,7 +53,8 @@ proptest! {
     /// The MPM step's evaluator (values and gradients into slices, NURBS
     /// A2.2 with A2.3 at k = 1) gives bit for bit the numbers of the general
     /// span evaluator, on any knots, also when its scratch was last used for
-    /// another degree or point (A2.2 writes every entry before reading it).
+    /// another degree or point (A2.2 writes every entry before reading it);
+    /// so does its fixed-width copy for p = 1, 2, 3, the step's hot path.
     #[test]
     fn mpm_evaluator_is_bitwise_the_span_evaluator(kv in general_knots(), other in open_knots(6, 0.02),
                                                    f in fractions()) {
@@ -68,6 +69,20 @@ proptest! {
                 for j in 0..w {
                     prop_assert_eq!(v[j].to_bits(), local.values()[j].to_bits(), "value {} at {}", j, x);
                     prop_assert_eq!(g[j].to_bits(), local.gradients()[j].to_bits(), "gradient {} at {}", j, x);
+                }
+                // The fixed-width copy the step runs for p = 1, 2, 3.
+                let fixed = match w {
+                    2 => Some(fixed_width::<2>(basis, x)),
+                    3 => Some(fixed_width::<3>(basis, x)),
+                    4 => Some(fixed_width::<4>(basis, x)),
+                    _ => None,
+                };
+                if let Some((first_fixed, vf, gf)) = fixed {
+                    prop_assert_eq!(first_fixed, local.first);
+                    for j in 0..w {
+                        prop_assert_eq!(vf[j].to_bits(), v[j].to_bits(), "fixed value {} at {}", j, x);
+                        prop_assert_eq!(gf[j].to_bits(), g[j].to_bits(), "fixed gradient {} at {}", j, x);
+                    }
                 }
             }
         }
@@ -633,4 +648,13 @@ fn knots_are_refused_exactly_where_double_precision_cannot_divide_or_measure() {
         KnotVector::new(vec![-1e308, 0.0, 1e308], 0),
         Err(hompm::Error::InvalidKnots(_))
     ));
+}
+
+/// `values_and_gradients_fixed::<W>` at x: the first index, values and gradients.
+fn fixed_width<const W: usize>(basis: &KnotVector, x: f64) -> (usize, Vec<f64>, Vec<f64>) {
+    let (mut v, mut g) = ([f64::NAN; W], [f64::NAN; W]);
+    let first = basis
+        .values_and_gradients_fixed::<W>(x, &mut v, &mut g)
+        .unwrap();
+    (first, v.to_vec(), g.to_vec())
 }

@@ -257,21 +257,6 @@ impl KnotVector {
         values: &mut [f64],
         gradients: &mut [f64],
     ) -> Result<usize> {
-        macro_rules! fixed {
-            ($w:literal) => {{
-                let (v, g) = (&mut values[..$w], &mut gradients[..$w]);
-                let (v, g) = (v.try_into(), g.try_into());
-                if let (Ok(v), Ok(g)) = (v, g) {
-                    return self.values_and_gradients_fixed::<$w>(x, v, g);
-                }
-            }};
-        }
-        match self.degree() {
-            1 => fixed!(2),
-            2 => fixed!(3),
-            3 => fixed!(4),
-            _ => {}
-        }
         let span = self.find_span(x)?;
         let p = self.degree();
         let t = self.knots();
