@@ -5,7 +5,8 @@
 //! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
 //! (10)–(17) at the Gauss points ([`mls`]), the TLS paper's §5.2–5.5 on
 //! rectangular cells ([`tls`]), both behind one interface
-//! ([`reconstruction`]), (18)–(37) (one step, [`step`]),
+//! ([`reconstruction`]), (18)–(37) (one step, [`step`], its phases in
+//! [`phases`]),
 //! (40)–(41) (the neo-Hookean solid, [`material`]). The particles are a
 //! struct of arrays ([`particles`]).
 //!
@@ -17,6 +18,7 @@ pub mod grid;
 pub mod material;
 pub mod mls;
 pub mod particles;
+pub mod phases;
 pub mod reconstruction;
 pub mod step;
 pub mod tls;

@@ -1,0 +1,549 @@
+//! # The phases of a 2D step, one function per group of equations
+//!
+//! The functions that [`super::step::Simulation2d::step`] calls in order
+//! (MLS paper Eqs. 4–5 and 18–41; the step's module doc is the table of
+//! contents):
+//!
+//! - [`evaluate_basis`]: Eqs. (4)–(5), two 1D stencils per particle;
+//! - phase 1: [`map_direct`] (the particles as quadrature points) or
+//!   [`map_reconstructed`] (Eqs. 18–25, through the Gauss-point
+//!   reconstruction of [`super::reconstruction`]);
+//! - phase 2: [`nodal_update`], Eqs. (26)–(28) with the walls' conditions;
+//! - phase 3: [`update_particles`], Eqs. (29)–(30);
+//! - [`end_of_step_velocity`]: Eqs. (31)–(33);
+//! - [`update_deformation`]: Eqs. (34)–(37) and (41);
+//! - the total-Lagrangian reference's [`map_direct_reference`] and
+//!   [`update_deformation_reference`].
+//!
+//! Each loop over the particles is monomorphised on the stencil width
+//! (`with_width!`), reads the workspace's stencils and writes its nodal
+//! arrays; none allocates.
+//!
+//! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
+//! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
+//! [`end_of_step_velocity`], [`update_deformation`],
+//! [`update_deformation_reference`].
+
+use super::grid::Grid2d;
+use super::material::NeoHookean;
+use super::particles::Particles2d;
+use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
+use super::step::{Conservation2d, Mapping2d, Workspace2d};
+use crate::basis::{with_width, Stencils};
+use crate::error::{Error, Result};
+use nalgebra::Matrix2;
+
+/// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
+/// outside [0, L]² is `Error::ParticleLeftGrid`.
+pub fn evaluate_basis(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    step: usize,
+) -> Result<()> {
+    let axis = grid.axis();
+    for (coords, stencils) in [(&p.x, &mut ws.along_x), (&p.y, &mut ws.along_y)] {
+        if let Err(e) = axis.fill_stencils(coords, stencils, &mut ws.scratch) {
+            let k = coords
+                .iter()
+                .position(|&c| !(c >= 0.0 && c <= grid.length()))
+                .unwrap_or(0);
+            return Err(match e {
+                Error::OutsideDomain { x, a, b } => Error::ParticleLeftGrid {
+                    particle: k,
+                    step,
+                    x,
+                    a,
+                    b,
+                },
+                other => other,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The stencils at the initial positions X_p, once, for the
+/// total-Lagrangian reference ([`Formulation::TotalLagrangian`]).
+pub(super) fn evaluate_basis_at_reference(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+) -> Result<()> {
+    let xs: Vec<f64> = p.x0.iter().map(|x| x[0]).collect();
+    let ys: Vec<f64> = p.x0.iter().map(|x| x[1]).collect();
+    grid.axis()
+        .fill_stencils(&xs, &mut ws.along_x, &mut ws.scratch)?;
+    grid.axis()
+        .fill_stencils(&ys, &mut ws.along_y, &mut ws.scratch)
+}
+
+/// The x and y stencils (values, gradients) of particle k, `w` entries
+/// each: the factors of N_i(x_p) = N_a(x) N_b(y) and of its gradient.
+#[inline]
+fn particle_stencils<'a>(
+    sx: &'a Stencils,
+    sy: &'a Stencils,
+    k: usize,
+    w: usize,
+) -> [(&'a [f64], &'a [f64]); 2] {
+    let r = k * w..(k + 1) * w;
+    [
+        (&sx.values[r.clone()], &sx.gradients[r.clone()]),
+        (&sy.values[r.clone()], &sy.gradients[r]),
+    ]
+}
+
+fn clear_nodes(ws: &mut Workspace2d) {
+    ws.mass.iter_mut().for_each(|m| *m = 0.0);
+    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    ws.force.iter_mut().for_each(|f| *f = [0.0; 2]);
+}
+
+/// Phase 1 with the particles as quadrature points: m_i = Σ_p N_i m_p,
+/// (mv)_i = Σ_p N_i m_p v_p, f_i = Σ_p (N_i m_p b_p − V_p σ_p ∇N_i)
+/// (MLS paper Eqs. 22–26 with ρ ω → m_p at x_p).
+pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
+    clear_nodes(ws);
+    let stress = |k: usize| p.stress[k] * p.volume[k];
+    with_width!(
+        grid.stencil_width(),
+        map_direct_with::<W>(grid, p, ws, stress)
+    );
+}
+
+/// [`map_direct`] of the total-Lagrangian reference ([`Formulation`]): the
+/// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
+/// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ. A particle with det F ≤ 0, which has no such
+/// P, is `Error::InvertedDeformation`.
+pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+    clear_nodes(ws);
+    for (k, f) in p.deformation.iter().enumerate() {
+        NeoHookean::jacobian(f).map_err(|e| particle_error(e, k))?;
+    }
+    let stress = |k: usize| {
+        let f_inv_t = p.deformation[k]
+            .try_inverse()
+            .unwrap_or_else(Matrix2::zeros)
+            .transpose();
+        p.stress[k] * f_inv_t * p.volume[k]
+    };
+    with_width!(
+        grid.stencil_width(),
+        map_direct_with::<W>(grid, p, ws, stress)
+    );
+    Ok(())
+}
+
+/// [`map_direct`] for stencil width `W` (0: any width), with the stress
+/// term V σ (or V⁰ P) of particle k given by `stress(k)`.
+fn map_direct_with<const W: usize>(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    stress: impl Fn(usize) -> Matrix2<f64>,
+) {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let m = p.mass[k];
+        let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
+        let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
+        let s = stress(k);
+        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
+        for b in 0..w {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let (mass, momentum, force) = (
+                &mut ws.mass[row..row + w],
+                &mut ws.momentum[row..row + w],
+                &mut ws.force[row..row + w],
+            );
+            for a in 0..w {
+                let nn = vx[a] * vy[b];
+                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
+                mass[a] += nn * m;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+                force[a][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+                force[a][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+            }
+        }
+    }
+}
+
+/// Phase 1 by a reconstruction (MLS or TLS): ρ_g, (ρv)_g, (ρb)_g and σ_g
+/// at every Gauss point (MLS paper Eqs. 18–21, f̃_g = Σ_p φ_gp f_p), then
+/// m_i = Σ_g N_i(x_g) ρ_g ω_g (22), (mv)_i = Σ_g N_i (ρv)_g ω_g (23),
+/// f_i^b = Σ_g N_i (ρb)_g ω_g (24) and f_i^int = −Σ_g ∇N_i σ_g ω_g (25).
+pub fn map_reconstructed(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+    clear_nodes(ws);
+    // Taken out for the loop (a move, no allocation) and put back below.
+    let Some(mut shapes) = ws.reconstruction.take() else {
+        return Err(Error::InvalidArgument(
+            "a reconstructed mapping needs its reconstruction (Mapping2d::Mls or Tls)".into(),
+        ));
+    };
+    let result = map_reconstructed_with(grid, p, ws, shapes.as_mut());
+    ws.reconstruction = Some(shapes);
+    result
+}
+
+fn map_reconstructed_with(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    shapes: &mut dyn GaussReconstruction,
+) -> Result<()> {
+    let gauss = GaussGrid {
+        abscissae: grid.gauss_abscissae(),
+        cells: grid.cells(),
+        cell_size: grid.cell_size(),
+    };
+    shapes.evaluate(&gauss, p, &ws.along_x.first, &ws.along_y.first)?;
+    let lists = shapes.lists();
+    let omega = grid.gauss_weight();
+    let ng = 2 * grid.cells();
+    // The eight particle values of Eqs. (18)–(21), packed so that each
+    // (Gauss point, particle) pair reads one record.
+    for (k, d) in ws.particle_values.iter_mut().enumerate() {
+        let (rho, v, b, s) = (p.density[k], p.velocity[k], ws.body_force[k], &p.stress[k]);
+        *d = [
+            rho,
+            rho * v[0],
+            rho * v[1],
+            rho * b[0],
+            rho * b[1],
+            s[(0, 0)],
+            s[(1, 1)],
+            s[(0, 1)],
+        ];
+    }
+    for (gx, gy) in storage_order(grid.cells()) {
+        let g = gx + ng * gy;
+        let mut q = [0.0; 8];
+        for e in lists.start[g]..lists.end[g] {
+            let (d, phi) = (
+                &ws.particle_values[lists.particle[e] as usize],
+                lists.phi[e],
+            );
+            for (qi, di) in q.iter_mut().zip(d) {
+                *qi += phi * di;
+            }
+        }
+        ws.gauss_values[g] = q;
+        scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
+    }
+    Ok(())
+}
+
+/// Eqs. (22)–(25) for one Gauss point (gx, gy) with ω-weighted values
+/// q = ω [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy].
+fn scatter_gauss_point(grid: &Grid2d, gx: usize, gy: usize, q: &[f64; 8], ws: &mut Workspace2d) {
+    let s = grid.gauss_stencils();
+    let n = grid.nodes_per_side();
+    let (vx, dx) = (s.values_of(gx), s.gradients_of(gx));
+    let (vy, dy) = (s.values_of(gy), s.gradients_of(gy));
+    for b in 0..vy.len() {
+        let row = (s.first[gy] + b) * n + s.first[gx];
+        for a in 0..vx.len() {
+            let i = row + a;
+            let nn = vx[a] * vy[b];
+            let dn = [dx[a] * vy[b], vx[a] * dy[b]];
+            ws.mass[i] += nn * q[0];
+            ws.momentum[i][0] += nn * q[1];
+            ws.momentum[i][1] += nn * q[2];
+            ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
+            ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+        }
+    }
+}
+
+pub(super) fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Conservation2d) {
+    let particle_mass = p.total_mass();
+    let grid_mass: f64 = ws.mass.iter().sum();
+    let pm = p.total_momentum();
+    let scale: f64 = p
+        .mass
+        .iter()
+        .zip(&p.velocity)
+        .map(|(m, v)| m * (v[0] * v[0] + v[1] * v[1]).sqrt())
+        .sum();
+    let gm = ws
+        .momentum
+        .iter()
+        .fold([0.0; 2], |s, m| [s[0] + m[0], s[1] + m[1]]);
+    c.mass = c
+        .mass
+        .max((grid_mass - particle_mass).abs() / particle_mass);
+    if scale > 0.0 {
+        c.momentum = c.momentum.max((gm[0] - pm[0]).hypot(gm[1] - pm[1]) / scale);
+    }
+}
+
+/// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components
+/// of the first and last column of nodes and the y components of the first
+/// and last row vanish. With open knot vectors (and P1) those are the only
+/// functions non-zero on the walls, so v·n = 0 along each wall.
+fn wall_conditions(n: usize, field: &mut [[f64; 2]]) {
+    for j in 0..n {
+        field[j * n][0] = 0.0;
+        field[j * n + n - 1][0] = 0.0;
+    }
+    for i in 0..n {
+        field[i][1] = 0.0;
+        field[(n - 1) * n + i][1] = 0.0;
+    }
+}
+
+/// Phase 2, MLS paper Eqs. (26)–(28): with the walls' conditions on f and
+/// (mv), (mv)_i ← (mv)_i + f_i Δt; `force` then holds a_i = f_i/m_i (27) and
+/// `velocity` the updated v_i = (mv)_i^{t+1}/m_i used by Eq. (30).
+pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
+    let n = grid.nodes_per_side();
+    wall_conditions(n, &mut ws.force);
+    wall_conditions(n, &mut ws.momentum);
+    for i in 0..ws.mass.len() {
+        let m = ws.mass[i];
+        let (f, mv) = (&mut ws.force[i], &mut ws.momentum[i]);
+        mv[0] += f[0] * dt;
+        mv[1] += f[1] * dt;
+        if m > 0.0 {
+            *f = [f[0] / m, f[1] / m];
+            ws.velocity[i] = [mv[0] / m, mv[1] / m];
+        } else {
+            *f = [0.0; 2];
+            ws.velocity[i] = [0.0; 2];
+        }
+    }
+}
+
+/// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
+/// x_p += Δt Σ_i N_i (mv)_i^{t+1}/m_i; u_p = x_p − X_p.
+pub fn update_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+    with_width!(
+        grid.stencil_width(),
+        update_particles_with::<W>(grid, p, ws, dt)
+    );
+}
+
+/// [`update_particles`] for stencil width `W` (0: any width): both sums
+/// of Eqs. (29)–(30) in one pass over the stencil.
+fn update_particles_with<const W: usize>(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    dt: f64,
+) {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
+        let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
+        for (b, &nb) in vy.iter().enumerate() {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let (acc, vel) = (&ws.force[row..row + w], &ws.velocity[row..row + w]);
+            for i in 0..w {
+                let nn = vx[i] * nb;
+                a[0] += nn * acc[i][0];
+                a[1] += nn * acc[i][1];
+                v[0] += nn * vel[i][0];
+                v[1] += nn * vel[i][1];
+            }
+        }
+        p.velocity[k][0] += dt * a[0];
+        p.velocity[k][1] += dt * a[1];
+        p.x[k] += dt * v[0];
+        p.y[k] += dt * v[1];
+        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+    }
+}
+
+/// MLS paper Eqs. (31)–(33): the particles' new velocities mapped again,
+/// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (direct) or Σ_g N_i (ρv)_g^L ω_g with
+/// (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} (MLS or TLS, the φ_gp of phase 1),
+/// then v_i^L = (mv)_i^L / m_i with the walls' conditions. Writes v^L into
+/// `velocity`.
+pub fn end_of_step_velocity(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+    mapping: Mapping2d,
+) {
+    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    let n = grid.nodes_per_side();
+    match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
+        (true, Some(shapes)) => {
+            let lists = shapes.lists();
+            let s = grid.gauss_stencils();
+            let ng = 2 * grid.cells();
+            let omega = grid.gauss_weight();
+            for (gx, gy) in storage_order(grid.cells()) {
+                let g = gx + ng * gy;
+                let mut q = [0.0; 2];
+                for e in lists.start[g]..lists.end[g] {
+                    let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
+                    q[0] += phi * p.density[k] * p.velocity[k][0];
+                    q[1] += phi * p.density[k] * p.velocity[k][1];
+                }
+                scatter_vector(
+                    n,
+                    s,
+                    gx,
+                    s,
+                    gy,
+                    [q[0] * omega, q[1] * omega],
+                    &mut ws.momentum,
+                );
+            }
+        }
+        _ => with_width!(
+            grid.stencil_width(),
+            map_particle_momentum_with::<W>(grid, p, ws)
+        ),
+    }
+    for i in 0..ws.mass.len() {
+        let m = ws.mass[i];
+        ws.velocity[i] = if m > 0.0 {
+            [ws.momentum[i][0] / m, ws.momentum[i][1] / m]
+        } else {
+            [0.0; 2]
+        };
+    }
+    wall_conditions(n, &mut ws.velocity);
+}
+
+/// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (Eq. 31 with the particles as the
+/// quadrature points) into `momentum`, for stencil width `W` (0: any width).
+fn map_particle_momentum_with<const W: usize>(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut Workspace2d,
+) {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
+        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
+        for (b, &nb) in vy.iter().enumerate() {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let momentum = &mut ws.momentum[row..row + w];
+            for a in 0..w {
+                let nn = vx[a] * nb;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+            }
+        }
+    }
+}
+
+/// out_i += N_i q over the tensor stencil of point kx of `sx` and ky of `sy`.
+fn scatter_vector(
+    n: usize,
+    sx: &Stencils,
+    kx: usize,
+    sy: &Stencils,
+    ky: usize,
+    q: [f64; 2],
+    out: &mut [[f64; 2]],
+) {
+    let (vx, vy) = (sx.values_of(kx), sy.values_of(ky));
+    for (b, &nb) in vy.iter().enumerate() {
+        let row = (sy.first[ky] + b) * n + sx.first[kx];
+        for (a, &na) in vx.iter().enumerate() {
+            let o = &mut out[row + a];
+            o[0] += na * nb * q[0];
+            o[1] += na * nb * q[1];
+        }
+    }
+}
+
+/// MLS paper Eqs. (34)–(37) and (41): ∇v_p = Σ_i v_i^L ⊗ ∇N_i(x_p),
+/// F_p ← (I + ∇v_p Δt) F_p, V_p = det(F_p) V_p⁰, ρ_p = m_p / V_p, σ_p from
+/// the neo-Hookean law. det F ≤ 0 is `Error::InvertedDeformation` and a
+/// velocity that is not finite `Error::NonFiniteVelocity`, each naming the
+/// particle.
+pub fn update_deformation(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    dt: f64,
+) -> Result<()> {
+    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| (Matrix2::identity() + l * dt) * f;
+    with_width!(
+        grid.stencil_width(),
+        update_deformation_with::<W>(grid, p, ws, material, rule)
+    )
+}
+
+/// [`update_deformation`] of the total-Lagrangian reference: Ḟ = ∇_X v, so
+/// F_p ← F_p + Δt Σ_i v_i^L ⊗ ∇_X N_i(X_p).
+pub fn update_deformation_reference(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    dt: f64,
+) -> Result<()> {
+    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| f + l * dt;
+    with_width!(
+        grid.stencil_width(),
+        update_deformation_with::<W>(grid, p, ws, material, rule)
+    )
+}
+
+/// [`update_deformation`] for stencil width `W` (0: any width); `rule(L, F)`
+/// is the new F from the interpolated gradient L = Σ_i v_i ⊗ ∇N_i.
+fn update_deformation_with<const W: usize>(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    material: &NeoHookean,
+    rule: impl Fn(Matrix2<f64>, Matrix2<f64>) -> Matrix2<f64>,
+) -> Result<()> {
+    let n = grid.nodes_per_side();
+    let w = if W == 0 { grid.stencil_width() } else { W };
+    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    for k in 0..p.len() {
+        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
+        let mut l = [0.0; 4];
+        for b in 0..w {
+            let row = (sy.first[k] + b) * n + sx.first[k];
+            let vel = &ws.velocity[row..row + w];
+            for a in 0..w {
+                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
+                l[0] += vel[a][0] * dn[0];
+                l[1] += vel[a][0] * dn[1];
+                l[2] += vel[a][1] * dn[0];
+                l[3] += vel[a][1] * dn[1];
+            }
+        }
+        let l = Matrix2::new(l[0], l[1], l[2], l[3]);
+        let f = rule(l, p.deformation[k]);
+        let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
+        p.deformation[k] = f;
+        p.volume[k] = j * p.volume0[k];
+        p.density[k] = p.mass[k] / p.volume[k];
+        p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
+        if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
+            return Err(Error::NonFiniteVelocity {
+                particle: k,
+                step: None,
+                time: None,
+                velocity: p.velocity[k],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Names particle k in the error of its deformation update.
+fn particle_error(mut e: Error, k: usize) -> Error {
+    if let Error::InvertedDeformation { particle, .. } = &mut e {
+        *particle = Some(k);
+    }
+    e
+}
