@@ -13,8 +13,14 @@
 //! or the text read literally (small strain, ‖P‖), whose values the tables
 //! list beside them (docs/reproduction-notes.md, issue #25).
 //!
-//! Items: [`ThesisVariant`], [`ThesisConventions`], [`THESIS_DT`],
-//! [`THESIS_STEPS`], [`bar_rms_with`], [`bar_rms`], [`rms_grid`], [`orders`].
+//! The thesis forms its orders from its RMS tables as printed, rounded to
+//! five significant digits: the printed values of Table 6.2 give all four
+//! printed orders of Table 6.1 to their digits, the unrounded ones miss the
+//! last. [`OrderInputs`] names the two readings.
+//!
+//! Items: [`ThesisVariant`], [`ThesisConventions`], [`OrderInputs`],
+//! [`THESIS_DT`], [`THESIS_STEPS`], [`THESIS_RMS_DIGITS`], [`bar_rms_with`],
+//! [`bar_rms`], [`rms_grid`], [`orders`], [`round_to_significant_digits`].
 
 use crate::error::Result;
 use crate::mpm::diagnostics::rms_error;
@@ -194,6 +200,29 @@ pub fn rms_grid(
         .collect())
 }
 
+/// The significant digits of the thesis' RMS tables (5.1, 6.2, 7.1):
+/// `4.9665e-6`.
+pub const THESIS_RMS_DIGITS: u32 = 5;
+
+/// What the orders of thesis Tables 5.2, 6.1 and 7.2 are taken from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OrderInputs {
+    /// The RMS errors as computed, in full precision.
+    Unrounded,
+    /// The RMS errors rounded to this many significant digits first, as the
+    /// thesis printed them ([`THESIS_RMS_DIGITS`]); the tables' reading
+    /// (docs/conventions.md, "Orders from printed RMS values").
+    AsPrinted(u32),
+}
+
+/// `x` rounded to `digits` significant digits (at least one), by the
+/// decimal rounding of Rust's `{:.*e}` formatting, so that it equals the
+/// printed number exactly when the two round alike.
+pub fn round_to_significant_digits(x: f64, digits: u32) -> f64 {
+    let d = digits.max(1) as usize - 1;
+    format!("{x:.d$e}").parse().unwrap_or(x)
+}
+
 /// The orders log2(e(h)/e(h/2)) between successive `levels` at `ppc`
 /// particles per cell (thesis Tables 5.2, 6.1, 7.2); one fewer than levels.
 pub fn orders(
@@ -201,10 +230,18 @@ pub fn orders(
     levels: &[usize],
     ppc: usize,
     conventions: ThesisConventions,
+    inputs: OrderInputs,
 ) -> Result<Vec<f64>> {
     let e: Vec<f64> = levels
         .par_iter()
         .map(|&c| bar_rms_with(variant, c, ppc, None, conventions))
         .collect::<Result<_>>()?;
+    let e: Vec<f64> = match inputs {
+        OrderInputs::Unrounded => e,
+        OrderInputs::AsPrinted(digits) => e
+            .iter()
+            .map(|&x| round_to_significant_digits(x, digits))
+            .collect(),
+    };
     Ok(e.windows(2).map(|w| (w[0] / w[1]).log2()).collect())
 }

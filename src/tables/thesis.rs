@@ -13,7 +13,9 @@ use super::{equal_to_digits, Computed, LabelledRow, Published, RunOptions, Table
 use crate::error::Result;
 use crate::mass::{assemble, row_sum_lumping};
 use crate::mpm::mapping::{ConsistentSolver, MassMatrix};
-use crate::studies::thesis::{self, bar_rms, bar_rms_with, ThesisConventions, ThesisVariant};
+use crate::studies::thesis::{
+    self, bar_rms, bar_rms_with, OrderInputs, ThesisConventions, ThesisVariant, THESIS_RMS_DIGITS,
+};
 use faer::mat;
 
 /// Thesis Appendix A.1 (M = Σ T_eᵀ M_e T_e) and A.2 (M^L_ii = Σ_j M_ij).
@@ -74,9 +76,22 @@ fn rms_grid(variant: ThesisVariant, conventions: ThesisConventions) -> Result<Ve
         .collect())
 }
 
-/// Orders log2(e(h)/e(h/2)) at 4 PPC, each labelled by its finer level.
+/// Orders log2(e(h)/e(h/2)) at 4 PPC, each labelled by its finer level,
+/// from the RMS errors rounded as the thesis printed them.
 fn order_grid(variant: ThesisVariant, conventions: ThesisConventions) -> Result<Vec<LabelledRow>> {
-    let orders = thesis::orders(variant, &LEVELS, 4, conventions)?;
+    order_grid_of(
+        variant,
+        conventions,
+        OrderInputs::AsPrinted(THESIS_RMS_DIGITS),
+    )
+}
+
+fn order_grid_of(
+    variant: ThesisVariant,
+    conventions: ThesisConventions,
+    inputs: OrderInputs,
+) -> Result<Vec<LabelledRow>> {
+    let orders = thesis::orders(variant, &LEVELS, 4, conventions, inputs)?;
     Ok(LEVELS[1..]
         .iter()
         .zip(orders)
@@ -88,6 +103,17 @@ fn order_grid(variant: ThesisVariant, conventions: ThesisConventions) -> Result<
 /// (small strain, ‖P‖), with how many of its values reach the printed
 /// digits: the variant the tables' conventions replace.
 fn text_literal_note(id: &str, json: &str, rows: &[LabelledRow]) -> Result<String> {
+    variant_note(
+        "text-literal conventions (small-strain update, book Eq. 4.15; Richardson to ‖P − M^C v‖/‖P‖ ≤ 1e-9)",
+        id,
+        json,
+        rows,
+    )
+}
+
+/// A note that lists `rows`, computed under another reading named by
+/// `heading`, with how many of them reach the printed digits.
+fn variant_note(heading: &str, id: &str, json: &str, rows: &[LabelledRow]) -> Result<String> {
     let published = Published::parse(id, json)?;
     let (mut to_digits, mut total) = (0, 0);
     let mut cells = Vec::new();
@@ -105,8 +131,7 @@ fn text_literal_note(id: &str, json: &str, rows: &[LabelledRow]) -> Result<Strin
         }
     }
     Ok(format!(
-        "text-literal conventions (small-strain update, book Eq. 4.15; Richardson to ‖P − M^C v‖/‖P‖ ≤ 1e-9): \
-         {to_digits} of {total} to the printed digits; {}",
+        "{heading}: {to_digits} of {total} to the printed digits; {}",
         cells.join("; ")
     ))
 }
@@ -199,34 +224,33 @@ fn spline_based_rms(o: &RunOptions) -> Result<Computed> {
     )
 }
 
+/// An order table: from the RMS errors as printed, with the orders of the
+/// unrounded errors and of the text-literal conventions in notes.
+fn order_table(id: &str, json: &str, variant: ThesisVariant) -> Result<Computed> {
+    let unrounded = order_grid_of(
+        variant,
+        ThesisConventions::AuthorsCode,
+        OrderInputs::Unrounded,
+    )?;
+    let note = variant_note(
+        "orders of the unrounded RMS errors (the author's conventions)",
+        id,
+        json,
+        &unrounded,
+    )?;
+    with_text_literal(id, json, order_grid, variant, vec![note])
+}
+
 fn linear_lagrange_orders(_: &RunOptions) -> Result<Computed> {
-    with_text_literal(
-        "thesis-5.2",
-        T52,
-        order_grid,
-        ThesisVariant::LinearLagrange,
-        vec![],
-    )
+    order_table("thesis-5.2", T52, ThesisVariant::LinearLagrange)
 }
 
 fn bspline_orders(_: &RunOptions) -> Result<Computed> {
-    with_text_literal(
-        "thesis-6.1",
-        T61,
-        order_grid,
-        ThesisVariant::BSpline,
-        vec![],
-    )
+    order_table("thesis-6.1", T61, ThesisVariant::BSpline)
 }
 
 fn spline_based_orders(_: &RunOptions) -> Result<Computed> {
-    with_text_literal(
-        "thesis-7.2",
-        T72,
-        order_grid,
-        ThesisVariant::SplineBased,
-        vec![],
-    )
+    order_table("thesis-7.2", T72, ThesisVariant::SplineBased)
 }
 
 /// Thesis Tables 5.1, 5.2, 6.1, 6.2, 7.1, 7.2.
@@ -235,9 +259,9 @@ pub fn tables() -> Vec<TableSpec> {
         registered("thesis-5.1", T51,
             "Linear Lagrange MPM (P1), direct mapping, lumped mass. Vibrating bar, thesis Table 4.1 (L = 25 m, ρ = 1, E = 100, v0 = 0.1), both ends fixed; n_p = cells·PPC particles at the centres of equal sub-intervals, V_p = L/n_p, v_p = v0 sin(πx_p/L); Euler–Cromer MUSL with Δt = 1e-5 s, 1999 steps; RMS of u_p against the analytic (linear) displacement at the initial positions, t = 1999·Δt. Conventions of the thesis author's code (MPM_1D_B_spline.m, 2016; public as roeltielen24/BSpline_MPM_1D; run under Octave by scripts/author_code_check.sh): its driver's default flag.deformation = 1, the large-strain update σ ← σ + (E − σ)Δε (book Eq. 4.16), and, with a consistent mass, Richardson iterated while ‖P − M^C v‖/‖v‖ ≥ 1e-9; the text-literal values are in the note.", linear_lagrange_rms),
         registered("thesis-5.2", T52,
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-5.1.", linear_lagrange_orders),
+            "Orders log2(e(h)/e(h/2)) of the RMS errors from the 4-PPC column of thesis-5.1, rounded to the five significant digits the thesis prints them with before the ratio is taken (the printed values of thesis Table 6.2 give all four printed orders of Table 6.1; docs/conventions.md, \"Orders from printed RMS values\"); the orders of the unrounded errors are in a note.", linear_lagrange_orders),
         registered("thesis-6.1", T61,
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-6.2.", bspline_orders),
+            "Orders log2(e(h)/e(h/2)) of the RMS errors from the 4-PPC column of thesis-6.2, rounded to the five significant digits the thesis prints them with before the ratio is taken (the printed values of thesis Table 6.2 give all four printed orders of Table 6.1; docs/conventions.md, \"Orders from printed RMS values\"); the orders of the unrounded errors are in a note.", bspline_orders),
         registered("thesis-6.2", T62,
             "Quadratic B-spline MPM on {0,0,0,α,…,L,L,L}, α = L/n_s, direct mapping, lumped mass; setup and conventions as thesis-5.1.", bspline_rms),
         registered("thesis-7.1", T71,
@@ -248,6 +272,6 @@ pub fn tables() -> Vec<TableSpec> {
              ‖P − M^C v‖/‖v‖ ≥ 1e-9 (the author's code), then boundary velocities zeroed; setup and \
              conventions as thesis-5.1.", spline_based_rms),
         registered("thesis-7.2", T72,
-            "Orders log2(e(h)/e(h/2)) from the 4-PPC column of thesis-7.1.", spline_based_orders),
+            "Orders log2(e(h)/e(h/2)) of the RMS errors from the 4-PPC column of thesis-7.1, rounded to the five significant digits the thesis prints them with before the ratio is taken (the printed values of thesis Table 6.2 give all four printed orders of Table 6.1; docs/conventions.md, \"Orders from printed RMS values\"); the orders of the unrounded errors are in a note.", spline_based_orders),
     ]
 }
