@@ -3,7 +3,7 @@
 
 Each line runs under a memory cap (prlimit --as, default 4 GiB) and a time
 limit (default 20 s); the outcomes are tabulated as in issue #13. The
-generator draws from the same pools as tests/cli_fuzz.rs (boundary values,
+generator draws from the same pools as tests/spec/cli/cli_fuzz.rs (boundary values,
 huge sizes, NaN, unknown names, mismatched lists), seeded.
 
     scripts/fuzz_cli.py [--binary target/release/hompm] [--count 3400] [--seed 1]

@@ -11,7 +11,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# module: files, then the test targets that state its equations.
+# module: files, then the test modules of tests/spec (and the allocation
+# binary) that state its equations.
 declare -A FILES=(
   [spline]="src/spline/*.rs"
   [quadrature]="src/quadrature.rs"
@@ -23,14 +24,14 @@ declare -A FILES=(
   [mpm2d]="src/mpm2d/*.rs"
 )
 declare -A TESTS=(
-  [spline]="properties_bspline golden_basis"
-  [quadrature]="properties_quadrature"
-  [lagrange]="properties_lagrange spec_ddmpm"
-  [mass]="properties_mass golden_book golden_tables spec_musl_step"
-  [solve]="properties_mass spec_richardson spec_pmultigrid golden_book oracle"
-  [reconstruct]="properties_reconstruct golden_tls_example spec_mpm2d allocations"
-  [mpm]="spec_musl_step spec_ddmpm properties_mpm golden_thesis golden_tls_conservation stability allocations oracle"
-  [mpm2d]="spec_mpm2d allocations oracle"
+  [spline]="properties::properties_bspline book::golden_basis"
+  [quadrature]="properties::properties_quadrature"
+  [lagrange]="properties::properties_lagrange tls::spec_ddmpm"
+  [mass]="properties::properties_mass book::golden_book meta::golden_tables book::spec_musl_step"
+  [solve]="properties::properties_mass thesis::spec_richardson book::spec_pmultigrid book::golden_book cli::oracle::"
+  [reconstruct]="properties::properties_reconstruct tls::golden_tls_example mls::spec_mpm2d allocations"
+  [mpm]="book::spec_musl_step tls::spec_ddmpm properties::properties_mpm thesis::golden_thesis tls::golden_tls_conservation properties::stability allocations cli::oracle::"
+  [mpm2d]="mls::spec_mpm2d allocations cli::oracle::"
 )
 # Extra cargo-mutants options, e.g. EXTRA="--shard 1/4" or EXTRA="--re fit";
 # OUT names the output directory under target/mutants (default: the module).
@@ -40,16 +41,22 @@ modules=("$@")
 for m in "${modules[@]}"; do
   args=()
   for f in ${FILES[$m]}; do args+=(--file "$f"); done
-  # --cargo-arg applies to the build as well as to the test run: without it,
-  # cargo-mutants builds all 33 test targets for every mutant.
-  tests=()
-  for t in ${TESTS[$m]}; do tests+=("--cargo-arg=--test=$t"); done
+  # --cargo-arg applies to the build as well as to the test run: only the
+  # spec binary (and the allocation binary) is built for every mutant; the
+  # module paths after `-- --` filter the tests it runs ("allocat" selects
+  # the allocation binary's tests, whose names all contain it).
+  tests=("--cargo-arg=--test=spec")
+  filters=()
+  for t in ${TESTS[$m]}; do
+    if [ "$t" = allocations ]; then tests+=("--cargo-arg=--test=allocations"); filters+=(allocat)
+    else filters+=("$t"); fi
+  done
   echo "== $m: ${FILES[$m]} against ${TESTS[$m]}"
   dir="target/mutants/${OUT:-$m}"
   mkdir -p "$dir"
   # No debuginfo in the per-mutant test builds: linking is most of their cost.
   PROPTEST_CASES=64 CARGO_PROFILE_TEST_DEBUG=false cargo mutants "${args[@]}" --output "$dir" \
-    --timeout 120 --no-shuffle "${tests[@]}" "${EXTRA[@]}" || true
+    --timeout 120 --no-shuffle "${tests[@]}" "${EXTRA[@]}" -- -- "${filters[@]}" || true
   out="$dir/mutants.out"
   for k in caught missed unviable timeout; do
     printf '%s %s: %s\n' "$m" "$k" "$(wc -l < "$out/$k.txt" 2>/dev/null || echo 0)"

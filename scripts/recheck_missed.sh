@@ -4,7 +4,7 @@
 # hunk even when lines have moved), the module's test targets run, and the
 # mutant is reported as now caught, still missed, or no longer applicable.
 #
-#   scripts/recheck_missed.sh MODULE TEST_TARGET...
+#   scripts/recheck_missed.sh MODULE TEST_MODULE...   (e.g. mls::spec_mpm2d, or allocations)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 module=$1; shift
@@ -13,7 +13,10 @@ work=$(mktemp -d /tmp/recheck-XXXX)
 git ls-files -z | xargs -0 -I{} cp --parents {} "$work"/
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-/tmp/recheck-target}
 export PROPTEST_CASES=64 CARGO_PROFILE_TEST_DEBUG=false
-tests=(); for t in "$@"; do tests+=(--test "$t"); done
+tests=(--test spec); filters=()
+for t in "$@"; do
+  if [ "$t" = allocations ]; then tests+=(--test allocations); filters+=(allocat); else filters+=("$t"); fi
+done
 (cd "$work" && cargo test --no-run "${tests[@]}" >/dev/null 2>&1)
 python3 - "$out/outcomes.json" <<'PY' > "$work/missed.tsv"
 import json, sys
@@ -27,7 +30,7 @@ while IFS=$'\t' read -r diff name; do
     echo "STALE   $name"; stale=$((stale+1)); continue
   fi
   (cd "$work" && patch -s -p0 < "$OLDPWD/$out/$diff")
-  if (cd "$work" && timeout 300 cargo test -q "${tests[@]}" >/dev/null 2>&1); then
+  if (cd "$work" && timeout 300 cargo test -q "${tests[@]}" -- "${filters[@]}" >/dev/null 2>&1); then
     echo "MISSED  $name"; missed=$((missed+1))
   else
     echo "CAUGHT  $name"; caught=$((caught+1))

@@ -8,7 +8,7 @@
 //!
 //! ## Map of the crate, in data-flow order
 //! A lower layer never imports a higher one, nor a module of its own layer;
-//! tests/layers.rs holds this order and fails on any `crate::` path that
+//! tests/spec/meta/layers.rs holds this order and fails on any `crate::` path that
 //! points up.
 //!
 //! | layer | module | what it holds |

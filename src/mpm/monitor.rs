@@ -37,7 +37,7 @@ pub const ENERGY_GROWTH_BOUND: f64 = 10.0;
 /// `studies::stability_map(16)` measures for the vibrating bar with lumped
 /// acceleration, 16 cells and 4 particles per cell, rounded down to two
 /// digits. `None` where hompm has not measured it (B-splines of degree ≥ 4).
-/// tests/stability.rs recomputes these values from the study.
+/// tests/spec/properties/stability.rs recomputes these values from the study.
 pub fn measured_critical_courant(method: Method) -> Option<f64> {
     match method {
         Method::Mpm => Some(1.65),

@@ -4,7 +4,7 @@
 //! hands it the simulation after each numbered function, and it copies
 //! the quantities of the equations that function completed
 //! ([`EQUATIONS_1D`]). A traced run is therefore the run itself, bit for
-//! bit (tests/oracle.rs compares a traced run with an untraced one).
+//! bit (tests/spec/cli/oracle.rs compares a traced run with an untraced one).
 //!
 //! The schema (docs/oracle.md): a header with the schema name, its
 //! version and every setting of the run; then, per traced step, one array

@@ -270,7 +270,7 @@ fn failure_footnotes(f: &FailureCases) -> Vec<String> {
         });
     vec![
         format!(
-            "Failure cases (tests/stability.rs): grid crossing — MPM column with 80 DOFs: {} crossings, {:.0}x the error of 50 DOFs (thesis §5.1.3);",
+            "Failure cases (tests/spec/properties/stability.rs): grid crossing — MPM column with 80 DOFs: {} crossings, {:.0}x the error of 50 DOFs (thesis §5.1.3);",
             g.linear_80.crossings,
             g.linear_80.error / g.linear_50.error
         ),

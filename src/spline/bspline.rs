@@ -17,7 +17,7 @@
 //!
 //! The derivative carries a minus sign between its two terms (book Eq. 4.23,
 //! TLS paper §4). The MLS paper's Eq. (3) prints "+"; a finite-difference test
-//! (`derivative_sign_is_minus` in tests/properties_bspline.rs) decides for the
+//! (`derivative_sign_is_minus` in tests/spec/properties/properties_bspline.rs) decides for the
 //! book, and docs/conventions.md records it.
 //!
 //! Items: [`cox_de_boor`], [`cox_de_boor_derivative`], [`SpanScratch`].
@@ -248,7 +248,7 @@ impl KnotVector {
     /// A2.2; the derivative is A2.3 at k = 1, which reduces to book Eq. (4.23):
     /// φ'_{r} = p (ndu\[r−1\]\[p−1\]/ndu\[p\]\[r−1\] − ndu\[r\]\[p−1\]/ndu\[p\]\[r\]), with
     /// the same operations in the same order, so the numbers are bit for bit
-    /// those of `local_basis(x, 1)` (tests/properties_bspline.rs). Returns
+    /// those of `local_basis(x, 1)` (tests/spec/properties/properties_bspline.rs). Returns
     /// the index of the first function.
     pub fn values_and_gradients_into(
         &self,
@@ -291,7 +291,7 @@ impl KnotVector {
     /// compiling, W = p + 1 (the step's hot path: the triangle lives in
     /// registers, not in a scratch). The same operations in the same order as
     /// [`cox_de_boor_triangle`] and the derivative of Eq. (4.23), so the numbers
-    /// are bit for bit those of the general code (tests/properties_bspline.rs).
+    /// are bit for bit those of the general code (tests/spec/properties/properties_bspline.rs).
     /// The caller guarantees W = p + 1.
     #[inline]
     pub fn values_and_gradients_fixed<const W: usize>(

@@ -1,7 +1,7 @@
 //! # Where methods fail: the failure cases of the seeds, as numbers
 //!
 //! Each function runs one failure the seeds describe and returns what a
-//! reader needs to see it; tests/stability.rs asserts on these results and
+//! reader needs to see it; tests/spec/properties/stability.rs asserts on these results and
 //! the report's stability chart prints them, so the two never drift apart.
 //!
 //! - [`column_grid_crossing`]: linear MPM loses its accuracy when particles

@@ -75,7 +75,7 @@ pub struct ReportStudies {
     pub solver_degrees: Vec<usize>,
     /// Critical Courant numbers.
     pub stability: Vec<StabilityPoint>,
-    /// The failure cases of tests/stability.rs.
+    /// The failure cases of tests/spec/properties/stability.rs.
     pub failures: FailureCases,
 }
 

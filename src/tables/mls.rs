@@ -222,7 +222,7 @@ fn notes(study: &AlignedStudy) -> Result<Vec<String>> {
             e8.periods(),
             e8.courant_number(64)?
         ),
-        "Eq. (42) prints π/L² where b = ü − ∇·P/ρ₀ gives π²/L²; hompm uses π² (tests/spec_mpm2d.rs::the_body_force_has_pi_squared_where_eq_42_prints_pi).".into(),
+        "Eq. (42) prints π/L² where b = ü − ∇·P/ρ₀ gives π²/L²; hompm uses π² (tests/spec/mls/spec_mpm2d.rs::the_body_force_has_pi_squared_where_eq_42_prints_pi).".into(),
     ];
     let groups = [
         &study.convergence,

@@ -1,6 +1,6 @@
 //! Property tests of the B-spline basis: book Eqs. (4.19)–(4.23), thesis §6.1.
 
-mod common;
+use crate::common;
 
 use approx::assert_relative_eq;
 use common::{general_knots, open_knots, sample_points};

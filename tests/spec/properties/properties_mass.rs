@@ -1,7 +1,7 @@
 //! Mass matrices, Kronecker operators and solvers: book Eqs. (4.2)–(4.4),
 //! (4.53)–(4.57); thesis §3.1, §7.2 and A.1–A.2.
 
-mod common;
+use crate::common;
 
 use common::open_knots;
 use hompm::mass::{

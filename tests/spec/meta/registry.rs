@@ -100,7 +100,7 @@ fn printed_digits_are_counted_from_the_transcription_and_compared_after_rounding
     assert!(equal_to_digits(1.0137e-9, 1.01365e-9 + 1e-24, 5));
     assert!(!equal_to_digits(450.0, 451.0, 3));
     assert!(!equal_to_digits(0.27, f64::NAN, 2));
-    let json = include_str!("../golden/published/thesis-7.1.json");
+    let json = include_str!("../../../golden/published/thesis-7.1.json");
     let p = Published::parse("thesis-7.1", json).unwrap();
     assert!(
         p.digits.iter().flatten().all(|d| *d == Some(5)),

@@ -10,7 +10,7 @@
 use approx::assert_relative_eq;
 use hompm::mpm::grid::{Grid, Method, NodeIntegrals};
 
-mod common;
+use crate::common;
 
 /// The DDMPM gradient of every DOF at x, as a dense vector.
 fn ddmpm_gradients(grid: &Grid, x: f64) -> Vec<f64> {

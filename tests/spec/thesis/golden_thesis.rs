@@ -30,7 +30,7 @@ fn check(id: &str) {
                 .join(" ")
         })
         .collect();
-    insta::with_settings!({snapshot_path => "../golden/snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../../golden/snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!(format!("{}_computed", id.replace(['-', '.'], "_")), text.join("\n"));
     });
 }

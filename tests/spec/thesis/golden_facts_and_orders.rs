@@ -1,7 +1,7 @@
 //! Golden tests of `tls-fig6` (convergence orders stated in TLS paper §6.1)
 //! and `thesis-facts` (numbers quoted in the texts).
 
-mod common;
+use crate::common;
 
 use hompm::tables::{self, RunOptions, Status};
 

@@ -1,7 +1,7 @@
 //! TLS paper Table 3 (and book §4.5): conservation of total mass and momentum
 //! by the TLS and cubic-spline mappings, vibrating bar, 40 elements, 12 PPC.
 
-mod common;
+use crate::common;
 
 use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::Mapping;

@@ -9,7 +9,7 @@ use hompm::mpm::mapping::{
 use hompm::mpm::particles::Particles;
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 fn method_strategy() -> impl Strategy<Value = Method> {
     prop_oneof![

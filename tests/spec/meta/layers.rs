@@ -4,7 +4,7 @@
 //! one. This test reads every file under src/ and fails on a `crate::x`
 //! path that points up (or sideways, between two modules of one layer).
 
-mod common;
+use crate::common;
 
 /// The top-level modules of src/, lowest layer first; modules on one line
 /// share a layer and may not refer to each other.

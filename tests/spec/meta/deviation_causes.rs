@@ -9,7 +9,7 @@ use hompm::scenes::column;
 use hompm::studies::tls_paper::{compaction, conservation_errors};
 use hompm::tables::Published;
 
-mod common;
+use crate::common;
 
 use common::published;
 

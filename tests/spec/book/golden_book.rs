@@ -5,7 +5,7 @@ use hompm::solve::pmultigrid::{PMultigridOptions, Smoother, Transfer};
 use hompm::studies::book::{cg_iterations, pmg_alternatives, pmg_cycles};
 use hompm::tables::{self, RunOptions, Status};
 
-mod common;
+use crate::common;
 use common::published;
 
 /// Table 4.2: every condition number within 1 %.
@@ -22,7 +22,7 @@ fn book_4_2_condition_numbers_reproduce() {
         .map(|d| d.abs())
         .fold(0.0, f64::max);
     assert!(worst < 0.0075, "worst deviation {worst}");
-    insta::with_settings!({snapshot_path => "../golden/snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../../golden/snapshots", prepend_module_to_snapshot => false}, {
         let text: Vec<String> = report.computed.iter().map(|r| r.iter().map(|v| format!("{:.6e}", v.unwrap())).collect::<Vec<_>>().join(" ")).collect();
         insta::assert_snapshot!("book_4_2_computed", text.join("\n"));
     });
@@ -67,7 +67,7 @@ fn book_4_3_counts_match_or_lie_inside_the_floating_point_spread() {
         }
     }
     assert_eq!(exact, 15);
-    insta::with_settings!({snapshot_path => "../golden/snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../../golden/snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!("book_4_3_computed", computed.join("\n"));
     });
 }

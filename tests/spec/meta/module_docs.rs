@@ -1,7 +1,7 @@
 //! Every module doc names the public items its module holds (issue #14):
 //! a reader who opens a file learns from its first lines what is in it.
 
-mod common;
+use crate::common;
 
 /// The name declared by a top-level `pub fn|struct|enum|const|trait|type|static|mod` line.
 fn public_item(line: &str) -> Option<&str> {

@@ -38,7 +38,7 @@ fn quadratic_bspline_tables_of_book_fig_4_1_and_thesis_fig_6_2_are_unchanged(
     #[case] knots: Vec<f64>,
 ) {
     let kv = KnotVector::new(knots, 2).unwrap();
-    insta::with_settings!({snapshot_path => "../golden/snapshots", prepend_module_to_snapshot => false}, {
+    insta::with_settings!({snapshot_path => "../../../golden/snapshots", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!(format!("basis_{name}"), table(&kv));
     });
 }

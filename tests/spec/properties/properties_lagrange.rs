@@ -2,8 +2,6 @@
 //! paper Eqs. 4–5, is tested with the other B-spline properties in
 //! properties_bspline.rs.)
 
-mod common;
-
 use approx::assert_relative_eq;
 use hompm::basis::Basis1d;
 use hompm::lagrange::{reference_shape_functions, LagrangeBasis, LagrangeOrder};

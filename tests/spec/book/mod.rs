@@ -1,0 +1,6 @@
+//! Tests of one part of the specification; see tests/spec/main.rs.
+
+mod golden_basis;
+mod golden_book;
+mod spec_musl_step;
+mod spec_pmultigrid;

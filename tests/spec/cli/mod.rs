@@ -1,0 +1,7 @@
+//! Tests of one part of the specification; see tests/spec/main.rs.
+
+mod cli_contract;
+mod cli_fuzz;
+mod commands;
+mod oracle;
+mod oracle_doc;

@@ -1,0 +1,3 @@
+//! Tests of one part of the specification; see tests/spec/main.rs.
+
+mod spec_mpm2d;
