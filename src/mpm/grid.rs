@@ -32,6 +32,10 @@
 //! uniform grids of the seeds: a guess from the spacing, corrected against
 //! the stored cell boundaries so that the answer is exact.
 //!
+//! Longer than 600 lines: the four bases of the table above share one
+//! `Grid`, with their batch evaluation at compile-time widths and the
+//! DDMPM gradient; each basis is one arm in each of its methods.
+//!
 //! Items: [`NodeIntegrals`], [`Method`], [`Shape`], [`Grid`].
 
 use crate::basis::{with_width, Basis1d, Stencils};

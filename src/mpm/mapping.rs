@@ -26,6 +26,12 @@
 //! sparse matrix and factorisation, the same amount every step
 //! (tests/allocations.rs).
 //!
+//! Longer than 600 lines: the internal force and the velocity projection
+//! of the three mappings share one workspace whose private buffers (the
+//! binned particles, the quadrature stencils, the spline buffers, the band
+//! assembly) both reuse; split, those buffers would have to be public to
+//! the crate.
+//!
 //! Items: [`Mapping`], [`ConsistentSolver`], [`MassMatrix`],
 //! [`TLS_GAUSS_POINTS`], [`MappingWorkspace`], [`internal_force`],
 //! [`Projection`], [`project_velocity`], [`assemble_projection`],

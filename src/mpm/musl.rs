@@ -33,6 +33,10 @@
 //! tests plant defects through it. [`Simulation::step`] passes
 //! [`NoObserver`], whose empty calls the compiler removes.
 //!
+//! Longer than 600 lines: the step's table of contents, the observer
+//! interface the oracle traces it through, and its checks sit with the
+//! step they describe.
+//!
 //! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`],
 //! [`StepPoint`], [`StepObserver`], [`NoObserver`], [`check_time_step`].
 

@@ -21,6 +21,11 @@
 //! evaluated at the shared boundary, added to the data but not to the
 //! constraint — or with a reduced basis, or reported as an error.
 //!
+//! Longer than 600 lines: the basis, the cell fit, the repair of
+//! degenerate cells and the two drivers (particle lists and counting-sort
+//! bins) share the fit's internals, and the repair needs the neighbours'
+//! fits, so it lives with the drivers.
+//!
 //! Items: [`MAX_ORDER`], [`TaylorBasis`], [`CellFit`], [`fit_cell`],
 //! [`DegenerateCells`], [`Assignment`], [`TlsOptions`],
 //! [`TlsReconstruction`], [`reconstruct`], [`CellBins`], [`TlsScratch`],

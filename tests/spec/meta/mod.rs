@@ -2,6 +2,7 @@
 
 mod deviation_causes;
 mod equation_map;
+mod file_lengths;
 mod golden_tables;
 mod layers;
 mod module_docs;
