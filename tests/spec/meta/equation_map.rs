@@ -1,7 +1,8 @@
 //! docs/equations.md is checked, not trusted: every row of the equation map
 //! has a unique seed-prefixed id (book-4.23, tls-12, thesis-3.5, mls-14), and
 //! every row marked done names code that exists in src/ (`module::item`) and
-//! a test that exists in tests/ (`tests/file.rs::test_name`).
+//! a test that exists in tests/ (`tests/file.rs::test_name`), and the code
+//! it names runs: each item outside a `(reference: …)` has a caller in src/.
 
 use std::collections::HashSet;
 use std::fs;
@@ -167,6 +168,98 @@ fn every_done_row_names_code_that_exists() {
         for p in paths {
             if let Err(e) = check_code_path(&p) {
                 errors.push(format!("line {}: {e}", r.line));
+            }
+        }
+    }
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// The "implemented in" cell without its `(reference: …)` parts: an item
+/// named there is the equation written literally for the tests to compare
+/// with, and need not run in the crate.
+fn called_part(cell: &str) -> String {
+    let mut out = String::new();
+    let mut rest = cell;
+    while let Some(i) = rest.find("reference:") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i..];
+        // Up to the parenthesis that closes the one the reference opens in.
+        let mut depth = 0usize;
+        let mut end = after.len();
+        for (k, c) in after.char_indices() {
+            match c {
+                '(' => depth += 1,
+                ')' if depth == 0 => {
+                    end = k;
+                    break;
+                }
+                ')' => depth -= 1,
+                _ => {}
+            }
+        }
+        rest = &after[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Whether `line` declares the item `name` (`fn name`, `struct name`, …);
+/// unlike [`declares`], a line that starts with `name(` is a call here.
+fn declares_item(line: &str, name: &str) -> bool {
+    [
+        "fn ", "struct ", "enum ", "trait ", "type ", "const ", "static ", "mod ",
+    ]
+    .iter()
+    .any(|kw| {
+        let pat = format!("{kw}{name}");
+        line.match_indices(&pat).any(|(i, _)| {
+            line[i + pat.len()..]
+                .chars()
+                .next()
+                .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+        })
+    })
+}
+
+/// Whether `name` is used in the crate's code outside its own declaration
+/// (comments and doc comments do not count).
+fn has_caller(name: &str, sources: &[(std::path::PathBuf, String)]) -> bool {
+    let is_word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+    sources.iter().any(|(_, text)| {
+        text.lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .filter(|l| !declares_item(l, name))
+            .any(|l| {
+                l.match_indices(name).any(|(i, _)| {
+                    !is_word(l[..i].chars().next_back())
+                        && !is_word(l[i + name.len()..].chars().next())
+                })
+            })
+    })
+}
+
+/// Issue #26: the map names the code that runs. Every item a done row
+/// names outside `(reference: …)` is called somewhere in src/ besides its
+/// declaration, and every done row names at least one such item.
+#[test]
+fn every_done_row_names_code_the_crate_calls() {
+    let sources = crate::common::source_files();
+    let mut errors = Vec::new();
+    for r in rows().iter().filter(|r| r.cells[4] == "done") {
+        let paths = code_paths(&called_part(&r.cells[2]));
+        if paths.is_empty() {
+            errors.push(format!(
+                "line {}: names only references, no code the crate runs",
+                r.line
+            ));
+        }
+        for p in paths {
+            let name = p.rsplit("::").next().unwrap_or(&p);
+            if !has_caller(name, &sources) {
+                errors.push(format!(
+                    "line {}: `{p}` has no caller in src/ (name what runs, or mark it `(reference: …)`)",
+                    r.line
+                ));
             }
         }
     }
