@@ -79,6 +79,7 @@ fn assert_all(computed: &[f64], expected: &[f64]) {
     }
 }
 
+/// Map rows: book-4.5, book-4.7 — the nodal mass of Eq. (4.7) is the lumped particle mass of Eq. (4.5).
 #[test]
 fn eq_4_5_lumped_mass_is_the_mass_weighted_basis_sum() {
     // m = [2·½, 2·½ + 2·¾, 2·¼]
@@ -88,6 +89,7 @@ fn eq_4_5_lumped_mass_is_the_mass_weighted_basis_sum() {
     );
 }
 
+/// Map rows: book-4.6, tls-8 — one equation, printed in two seeds.
 #[test]
 fn eq_4_6_internal_force_is_stress_times_volume_times_gradient() {
     // σV = 3 and −0.5: f = [3·(−1), 3·1 + (−0.5)(−1), (−0.5)·1]
@@ -95,6 +97,7 @@ fn eq_4_6_internal_force_is_stress_times_volume_times_gradient() {
     assert_all(&sim.workspace().internal_force, &[-3.0, 3.5, -0.5]);
 }
 
+/// Map rows: tls-1, thesis-2.4, thesis-2.7, thesis-§3.2-2 — the external force of the governing equation, printed in several seeds; one hand-computed step checks it.
 #[test]
 fn thesis_3_2_gravity_and_traction_loads() {
     // m g φ: [−1, −1 − 1.5, −0.5]; traction 0.5 φ on particle 1: [0, 0.375, 0.125]
@@ -103,6 +106,7 @@ fn thesis_3_2_gravity_and_traction_loads() {
     assert_all(&sim.workspace().traction_force, &[0.0, 0.375, 0.125]);
 }
 
+/// Map rows: book-4.1, book-4.8, tls-§3-1, tls-5, thesis-2.6, thesis-2.8, thesis-3.1, thesis-3.2, thesis-§3.2-3 — the momentum balance and its Galerkin form, printed in every 1D seed; the acceleration of one hand-computed step checks them.
 #[test]
 fn eq_4_8_nodal_acceleration_is_net_force_over_lumped_mass() {
     // a = [(0 − 1 + 3)/1, (0.375 − 2.5 − 3.5)/2.5, (0.125 − 0.5 + 0.5)/0.5]
@@ -181,6 +185,7 @@ fn a_step_after_the_particles_were_replaced_is_a_fresh_step() {
     assert_eq!(sim.particles, fresh.particles);
 }
 
+/// Map rows: book-4.9, tls-§3.1-1, thesis-§3.1-1, thesis-§3.2-4 — one equation, printed in three seeds.
 #[test]
 fn eq_4_9_particle_velocity_takes_the_interpolated_acceleration() {
     // v0 = 1 + 0.1(½·2 + ½·(−2.25)), v1 = −2 + 0.1(¾·(−2.25) + ¼·0.25)
@@ -190,6 +195,7 @@ fn eq_4_9_particle_velocity_takes_the_interpolated_acceleration() {
     );
 }
 
+/// Map rows: book-4.10, tls-9, thesis-3.3, thesis-3.4 — one equation, printed in three seeds.
 #[test]
 fn eq_4_10_nodal_velocity_is_projected_momentum_over_lumped_mass() {
     // p = [2·0.9875·½, 2·0.9875·½ + 2·(−2.1625)·¾, 2·(−2.1625)·¼] over m
@@ -200,6 +206,7 @@ fn eq_4_10_nodal_velocity_is_projected_momentum_over_lumped_mass() {
     );
 }
 
+/// Map rows: book-4.11, book-4.12, book-4.13, tls-4, thesis-§2.2-1, thesis-§3.2-7 — the three updates of one hand-computed step, printed in three seeds.
 #[test]
 fn eqs_4_11_to_4_13_displacement_and_position_move_with_the_grid() {
     // Δu_i = 0.1 v_i = [0.09875, −0.09025, −0.21625];
@@ -210,6 +217,7 @@ fn eqs_4_11_to_4_13_displacement_and_position_move_with_the_grid() {
     assert_all(&sim.particles.x0, &[0.5, 1.25]);
 }
 
+/// Map rows: book-4.14, thesis-2.2, thesis-§3.2-5 — one equation, printed in two seeds.
 #[test]
 fn eq_4_14_strain_increment_is_the_gradient_of_the_displacement_increment() {
     // Δε_0 = −0.09875 − 0.09025, Δε_1 = 0.09025 − 0.21625
@@ -218,6 +226,7 @@ fn eq_4_14_strain_increment_is_the_gradient_of_the_displacement_increment() {
     assert_all(&sim.particles.strain, &[-0.189, -0.126]);
 }
 
+/// Map rows: book-4.15, tls-2, tls-6 — one equation, printed in two seeds.
 #[test]
 fn eq_4_15_small_strain_stress_update() {
     // σ = 3 + 10(−0.189), −1 + 10(−0.126)
@@ -227,6 +236,7 @@ fn eq_4_15_small_strain_stress_update() {
     );
 }
 
+/// Map rows: book-4.16, tls-3 — one equation, printed in two seeds.
 #[test]
 fn eq_4_16_large_strain_stress_update() {
     // σ = 3 + (10 − 3)(−0.189), −1 + (10 + 1)(−0.126)
@@ -245,6 +255,7 @@ fn eq_4_17_volume_grows_with_the_strain_increment() {
     );
 }
 
+/// Map rows: book-4.18, thesis-2.3 — one equation, printed in two seeds.
 #[test]
 fn eq_4_18_density_shrinks_with_the_strain_increment_and_mass_is_kept() {
     // ρ = 2/(1 − 0.189), 4/(1 − 0.126)
@@ -345,6 +356,7 @@ fn half_span_rule(left: f64, right: f64, clip_every_half_span: bool) -> Vec<(f64
     rule
 }
 
+/// Map rows: thesis-§7.2-2, thesis-§7.2-4 — the force integral and its clipping to the continuum are one computation.
 #[test]
 fn thesis_7_2_spline_force_integrates_the_stress_spline_over_half_spans_clipped_to_the_continuum() {
     let grid = Grid::new(Method::Mpm, 0.0, 4.0, 4).unwrap();

@@ -288,6 +288,74 @@ fn every_done_row_names_a_test_that_exists() {
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
+/// The `///` lines right above `fn name` in `text` (attributes skipped).
+fn doc_above(text: &str, name: &str) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| {
+        l.trim_start().strip_prefix("fn ").is_some_and(|r| {
+            r.starts_with(name)
+                && !r[name.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+        })
+    })?;
+    let doc: Vec<&str> = lines[..at]
+        .iter()
+        .rev()
+        .map(|l| l.trim_start())
+        .take_while(|l| l.starts_with("///") || l.starts_with("#["))
+        .filter(|l| l.starts_with("///"))
+        .collect();
+    Some(doc.into_iter().rev().collect::<Vec<_>>().join("\n"))
+}
+
+/// Issue #26: a test that several rows name for different equations says
+/// why in its doc comment, in a line "Map rows: id, id — why." that lists
+/// every one of those rows.
+#[test]
+fn a_test_named_by_several_rows_says_why() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut by_test: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for r in rows().iter().filter(|r| r.cells[4] == "done") {
+        for named in r.cells[3].split(", ") {
+            let ids = by_test.entry(named.to_string()).or_default();
+            if !ids.contains(&r.cells[0]) {
+                ids.push(r.cells[0].clone());
+            }
+        }
+    }
+    let mut errors = Vec::new();
+    for (named, ids) in by_test.iter().filter(|(_, ids)| ids.len() > 1) {
+        let Some((file, test)) = named.split_once("::") else {
+            continue;
+        };
+        let text = fs::read_to_string(root.join(file)).unwrap_or_default();
+        let doc = doc_above(&text, test).unwrap_or_default();
+        let Some(line) = doc.lines().find(|l| l.contains("Map rows:")) else {
+            errors.push(format!(
+                "{named}: named by {} rows and no \"Map rows: … — why\" line",
+                ids.len()
+            ));
+            continue;
+        };
+        let (listed, why) = line.split_once(" — ").unwrap_or((line, ""));
+        let listed: Vec<&str> = listed
+            .split_once("Map rows:")
+            .map_or("", |(_, l)| l)
+            .split(", ")
+            .map(str::trim)
+            .collect();
+        let missing: Vec<&String> = ids
+            .iter()
+            .filter(|id| !listed.contains(&id.as_str()))
+            .collect();
+        if !missing.is_empty() || why.trim().len() < 10 {
+            errors.push(format!(
+                "{named}: its \"Map rows\" line misses {missing:?} or a reason"
+            ));
+        }
+    }
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
 #[test]
 fn the_summary_line_counts_the_rows() {
     let rows = rows();

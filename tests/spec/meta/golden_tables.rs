@@ -5,6 +5,8 @@ use hompm::tables::{self, RunOptions, Status};
 
 /// Thesis Appendix A.1–A.2: the 4×4 assembled matrix and the lumped diagonal
 /// 9, 12, 15, 7 — exact.
+///
+/// Map rows: book-4.3, tls-§3-2, thesis-A-1-unnumbered-1, thesis-A-2-unnumbered-1 — one assembly, printed in three seeds.
 #[test]
 fn thesis_a1_reproduces_exactly() {
     let spec = tables::find("thesis-a1").unwrap();

@@ -82,6 +82,7 @@ impl hompm::mpm2d::BodyForce2d for Gravity {
     }
 }
 
+/// Map rows: mls-40, mls-41 — Eq. (41) is checked through its relation to Eq. (40).
 #[test]
 fn cauchy_stress_is_piola_times_f_transposed_over_j_and_the_printed_piola_is_its_transpose() {
     let m = material();
@@ -193,6 +194,7 @@ fn the_body_force_has_pi_squared_where_eq_42_prints_pi() {
     }
 }
 
+/// Map rows: mls-38, mls-39 — the displacement and its initial conditions are one manufactured solution.
 #[test]
 fn the_manufactured_solution_satisfies_the_walls_and_starts_undeformed() {
     let s = parameters("mls-paper-e1e8").unwrap();
@@ -470,6 +472,7 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
     }
 }
 
+/// Map rows: mls-22, mls-23, mls-25 — the three nodal sums of phase 1 come from one dense assembly.
 #[test]
 fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
     // Degree 4 (width 5) takes the loops whose width is known at run time.
@@ -512,6 +515,8 @@ fn direct_mapping_equals_a_dense_assembly_at_degree(degree: usize) {
 /// is ¼, with gradients ∇N = (∓1, ∓1)/… worked out below; only the centre
 /// node (1, 1) is free in both directions, node (1, 0) only in x, node (0, 1)
 /// only in y, node (0, 0) in neither.
+///
+/// Map rows: mls-20, mls-22, mls-23, mls-24, mls-26, mls-27, mls-28, mls-29, mls-30, mls-32, mls-33, mls-34, mls-35, mls-36, mls-37, mls-41 — one step computed by hand checks every equation of the step in order.
 #[test]
 fn one_bilinear_step_by_hand() {
     let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
@@ -631,6 +636,8 @@ fn the_particle_velocity_update_hands_the_particles_the_momentum_the_grid_gained
 /// recomputed here with the 2D tensor basis of `spline::tensor` from the
 /// step's own v^L. Random velocities make L full (off-diagonal terms too);
 /// degree 4 (width 5) takes the loops whose width is known only at run time.
+///
+/// Map rows: mls-34, mls-35 — the velocity gradient and the F update are one computation.
 #[test]
 fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() {
     for degree in [1, 2, 4] {
@@ -955,6 +962,8 @@ fn the_direct_mappings_conserve_mass_and_momentum_to_rounding() {
 /// against quadratic B-splines, so the nodal mass, momenta and internal
 /// force equal ρ∫N_i, ρ∫N_i v and −∫∇N_i σ, computed here independently
 /// with the tensor basis and a 3×3 Gauss rule per cell.
+///
+/// Map rows: mls-18, mls-19, mls-20, mls-21, mls-22, mls-31, mls-32 — every Gauss-point value and nodal sum of the MLS mapping is exact for linear fields.
 #[test]
 fn the_mls_mapping_integrates_linear_fields_exactly() {
     let cells = 3;

@@ -18,6 +18,8 @@ proptest! {
 
     /// Book Eq. (4.21) and (4.22): Σ φ_i = 1 and φ_i ≥ 0 on the domain,
     /// for the literal recursion and for the span evaluator.
+    ///
+    /// Map rows: book-4.19, book-4.21, book-4.22, tls-§4-3, thesis-§6.1-2 — the B-spline properties of three seeds, checked on random knot vectors.
     #[test]
     fn partition_of_unity_and_non_negativity(kv in general_knots(), f in fractions()) {
         for x in sample_points(&kv, &f) {
@@ -34,6 +36,8 @@ proptest! {
 
     /// The span evaluator equals the literal Cox–de Boor recursion, values and
     /// first derivatives (Eq. 4.23), on open knots with repeated interior knots.
+    ///
+    /// Map rows: book-4.20, tls-§4-1, thesis-§6.1-1, mls-1, mls-2 — the Cox–de Boor recursion, printed in four seeds.
     #[test]
     fn span_evaluator_matches_literal_recursion(kv in open_knots(6, 0.02), f in fractions()) {
         let p = kv.degree();
@@ -178,6 +182,8 @@ proptest! {
 /// Book Eq. (4.23) has a minus between its terms; the MLS paper's Eq. (3)
 /// prints a plus. Central differences decide for the minus
 /// (docs/conventions.md, "Sign of the derivative").
+///
+/// Map rows: book-4.23, tls-§4-2, mls-3 — one derivative, printed in three seeds (one with the wrong sign).
 #[test]
 fn derivative_sign_is_minus() {
     let kv = KnotVector::new(vec![0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0], 2).unwrap();
@@ -539,6 +545,8 @@ proptest! {
 
     /// MLS paper Eqs. (4)–(5): the 2D function is the product of the 1D ones,
     /// its gradient is (N'_i N_j, N_i N'_j), and the 2D basis is a partition of unity.
+    ///
+    /// Map rows: mls-4, mls-5 — the tensor basis and its gradient are one product.
     #[test]
     fn tensor_basis_is_product_with_product_gradient(kx in open_knots(4, 0.05), ky in open_knots(4, 0.05),
                                                      s in 0.0f64..=1.0, t in 0.0f64..=1.0) {

@@ -43,6 +43,8 @@ proptest! {
 
     /// Partition of unity, zero-sum gradients and finite-difference gradients
     /// for P1 and P2 meshes (thesis §5.1–5.2).
+    ///
+    /// Map rows: tls-§3.2-1, thesis-§5.1-2 — one basis, printed in two seeds.
     #[test]
     fn lagrange_partition_of_unity_and_gradients(elements in 1usize..20, quadratic in any::<bool>(),
                                                  a in -3.0f64..3.0, len in 0.5f64..5.0, t in 0.0f64..=1.0) {

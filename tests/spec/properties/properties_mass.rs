@@ -50,6 +50,8 @@ proptest! {
 
     /// Book Eqs. (4.3) and (4.4): for a partition-of-unity basis, row-sum and
     /// variational lumping agree, and the lumped masses sum to ∫ρ.
+    ///
+    /// Map rows: book-4.2, book-4.4, tls-§3-3, thesis-§5.1-1, thesis-A-2-unnumbered-2 — the lumped masses of three seeds agree for a basis that sums to one.
     #[test]
     fn row_sum_and_variational_lumping_agree(kv in open_knots(6, 0.02), c0 in 0.5f64..3.0, c1 in -0.2f64..0.2) {
         let (a, b) = kv.domain();
@@ -70,6 +72,8 @@ proptest! {
 
     /// Thesis §3.1 / book Eq. (4.5): material-point masses are conserved by the
     /// mapping, Σ_ij M_ij = Σ_i m_i = Σ_p m_p (partition of unity, book Eq. 4.24).
+    ///
+    /// Map rows: tls-§3-4, tls-7, thesis-§3.1-2, thesis-§3.3-2 — one property, stated in three seeds.
     #[test]
     fn material_point_mass_is_conserved(kv in open_knots(5, 0.02),
                                         pts in proptest::collection::vec((0.0f64..=1.0, 0.1f64..2.0), 1..40)) {

@@ -39,6 +39,8 @@ proptest! {
     /// Book Eq. (4.24): the direct mapping preserves total mass and momentum
     /// for any partition-of-unity basis; TLS does too (TLS paper §5.5), with
     /// lumped or consistent mass.
+    ///
+    /// Map rows: book-4.24, tls-§5-1 — one property, stated in two seeds.
     #[test]
     fn mappings_conserve_mass_and_momentum(method in method_strategy(), cells in 2usize..10, ppc in 3usize..6,
                                            jitter in proptest::collection::vec(0.0f64..1.0, 7),

@@ -29,6 +29,8 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// Book Eq. (4.32): ∫ψ_1 = |Ω_e| and ∫ψ_i = 0 for i > 1, n_b ≤ 6.
+    ///
+    /// Map rows: book-4.30, book-4.31, book-4.32, tls-§5.2-1, tls-12 — the Taylor basis and its integral property, printed in two seeds.
     #[test]
     fn taylor_basis_integral_property(a in -5.0f64..5.0, w in 0.01f64..5.0, nb in 1usize..=6) {
         let basis = TaylorBasis::new(a, a + w, nb).unwrap();
@@ -43,6 +45,8 @@ proptest! {
     /// Book Eqs. (4.34)–(4.35) and TLS paper §5.5: the conservative TLS
     /// reconstruction integrates to the prescribed value in every cell, and an
     /// exact Gauss rule with n_b ≤ 2 N_g/N_e points preserves the total.
+    ///
+    /// Map rows: book-4.33, book-4.34, book-4.35, book-4.37, book-4.39, book-4.40, book-4.41, tls-13, tls-14, tls-§5.4-2, tls-16, tls-§5.5-1 — the constrained fit and its conservation, printed in two seeds.
     #[test]
     fn conservative_tls_preserves_cell_integrals(cells in cells_strategy(), nb in 1usize..=4,
                                                  data in proptest::collection::vec((0.0f64..1.0, -3.0f64..3.0), 30),
@@ -73,6 +77,8 @@ proptest! {
 
     /// TLS reproduces polynomials of degree < n_b exactly, with and without the
     /// conservation constraint (given the exact cell integral).
+    ///
+    /// Map rows: book-4.26, book-4.27, book-4.28, book-4.29, book-4.36, tls-10, tls-11 — the least-squares fit, printed in two seeds, reproduces its polynomials.
     #[test]
     fn tls_reproduces_polynomials(a in -2.0f64..2.0, w in 0.2f64..3.0, nb in 1usize..=5,
                                   coef in proptest::collection::vec(-2.0f64..2.0, 5),
@@ -159,6 +165,8 @@ proptest! {
 
     /// MLS paper Eq. (14): the shape functions sum to one and reproduce linear
     /// fields exactly (1D with [1, x], 2D with [1, x, y]).
+    ///
+    /// Map rows: mls-6, mls-7, mls-8, mls-9, mls-10, mls-11, mls-12, mls-13, mls-14, mls-15, mls-16 — the MLS shape functions of Eqs. (6)–(16) are checked through what they reproduce.
     #[test]
     fn mls_partition_of_unity_and_linear_reproduction(n in 3usize..20, l in 0.1f64..1.0, s in 0.0f64..1.0,
                                                       a0 in -2.0f64..2.0, a1 in -2.0f64..2.0, a2 in -2.0f64..2.0) {
@@ -183,6 +191,8 @@ proptest! {
 /// condition number detects it; a virtual point at 2π from the TLS of
 /// [2π, 3π] repairs it; conservation holds; and the error on [π, 2π] is lower
 /// than with the reduced basis.
+///
+/// Map rows: tls-§5.3-1, tls-§5.3-2 — detection and repair are one procedure.
 #[test]
 fn degenerate_cell_is_detected_and_repaired_by_a_virtual_point() {
     let f = |x: f64| x.sin() + 2.0;

@@ -9,6 +9,8 @@ use hompm::tables::{self, RunOptions, Status};
 /// order 1 in stress; BSMPM with either reconstruction is third order in
 /// displacement and velocity. The stated third order in stress is not
 /// reproduced (2.03; docs/reproduction.md).
+///
+/// Map rows: book-4.38, tls-§5.4-1 — one convergence study, printed in two seeds.
 #[test]
 fn tls_fig_6_orders_reproduce_except_third_order_in_stress() {
     let report = tables::run(

@@ -36,6 +36,8 @@ fn check(id: &str) {
 }
 
 /// Table 5.1 (RMS, P1 MPM) and 5.2 (orders): all 19 numbers.
+///
+/// Map rows: book-4.45, book-4.46, book-4.47, book-4.48, book-4.49, book-4.50, book-4.51, book-4.52, tls-§2-1, tls-§6.1-1, thesis-§2.5-1, thesis-§4-1, thesis-4.1, thesis-§4.3-1, mls-43 — the bar's equations, conditions, exact solution and RMS error are the setup of every number of the table.
 #[test]
 fn thesis_tables_5_1_and_5_2_reproduce_for_linear_lagrange_mpm() {
     check("thesis-5.1");
@@ -50,6 +52,8 @@ fn thesis_tables_6_1_and_6_2_reproduce_for_quadratic_bspline_mpm() {
 }
 
 /// Table 7.1 (RMS, spline-based MPM) and 7.2 (orders): all 19 numbers.
+///
+/// Map rows: thesis-§7.2-1, thesis-§7.2-5 — the projection's conservation and its lumped velocity enter every number of the table.
 #[test]
 fn thesis_tables_7_1_and_7_2_reproduce_for_spline_based_mpm() {
     check("thesis-7.1");

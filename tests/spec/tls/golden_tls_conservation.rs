@@ -10,6 +10,8 @@ use hompm::tables::{self, RunOptions};
 
 /// TLS conserves mass and momentum to machine precision (≤ 1e-13) for MPM,
 /// DDMPM and BSMPM (TLS paper §5.5, Table 3).
+///
+/// Map rows: book-4.42, book-4.43, book-4.44, tls-15, tls-§5.4-3 — one conservation proof, printed in two seeds.
 #[test]
 fn tls_mapping_conserves_to_machine_precision() {
     for method in [Method::Mpm, Method::DDMPM, Method::Bsmpm { degree: 2 }] {
