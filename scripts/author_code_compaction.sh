@@ -20,6 +20,7 @@ repo=$(cd "${1:?usage: author_code_compaction.sh CHECKOUT [deformation 0|1]}" &&
 deformation=${2:-1}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+cp "$(dirname "$0")/author_code_grid.m" "$work/"
 cp "$repo"/*.m "$work"/
 # The ramp: only the nodal gravity force inside the time loop changes.
 sed -i 's/F_grav(i,1) = sum(\(.*\)constant\.g);/F_grav(i,1) = sum(\1constant.g*min(1,(s-1)*t_step\/constant.ramp));/' \
@@ -33,19 +34,7 @@ flag = struct('both_ends_fixed',0,'volume_update',1,'lumped',1,'change_glob_pos'
   'change_loc_pos',1,'lagranian',0,'momentum',1,'deformation',num('DEFORMATION'),'num_int',0, ...
   'dynamic',0,'splines',0,'ULFEM',0);
 deg = 1; n_e = 50; ppc = 20; dt = 1e-4; n_steps = 5000;
-n_dof = n_e + deg;
-Xi = zeros(n_dof + deg + 1, 1);
-mesh = 0:constant.height/(n_dof-deg):constant.height;
-Xi(deg+2:n_dof+1, 1) = mesh(2:n_dof-deg+1);
-Xi(end-deg:end, 1) = mesh(end);
-h = constant.height / n_e;
-loc = (1:2:(2*ppc-1)) / (2*ppc);
-pos_loc = repmat(loc, 1, n_e);
-pos = pos_loc(:) * h + kron(Xi(1+deg:end-deg-1), ones(ppc, 1));
-n_p = n_e * ppc;
-weight = h / ppc * ones(n_p, 1);
-nt = n_steps + 1;
-z = zeros(1, nt);
+author_code_grid;  % scripts/author_code_grid.m
 [u_n, v_p, v_n, m_p, u_p] = MPM_1D_B_spline(constant, flag, pos, pos_loc, ...
   n_e, h, ppc, dt, nt, nt*dt, z, z, z, z, weight, Xi, deg, @(x) 0*x, ...
   @(x) 0*x, @(x) 0*x, n_p, zeros(n_dof, nt));
