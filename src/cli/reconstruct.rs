@@ -5,7 +5,7 @@
 //! with the integral over each cell. A query outside the cells is an error
 //! for every method; cells whose integrals overflow are refused.
 //!
-//! Items: [`ReconstructArgs`], [`reconstruct`].
+//! Items: [`TaylorAverageArg`], [`ReconstructArgs`], [`reconstruct`].
 
 use super::args::{count, name, ReconstructionArg};
 use super::limits::Limits;
@@ -14,6 +14,17 @@ use crate::error::{finite_named, Error, Result};
 use crate::quadrature::gauss_on_cells;
 use crate::reconstruct::{cubic_spline, mls, taylor};
 use serde::Serialize;
+
+/// The `--taylor-average` choices ([`taylor::CellAverage`]).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TaylorAverageArg {
+    /// Δx²/3 (book Eq. 4.30).
+    Exact,
+    /// [F(b) − F(a)]/(b − a), F(x) = x³/3 − x_c x² + x_c² x at the absolute ends.
+    AntiderivativeDifference,
+    /// The same antiderivative as six terms, in the order of ewob/TLS TLS1D.py.
+    AntiderivativeSixTerms,
+}
 
 /// Arguments of `hompm reconstruct`.
 #[derive(clap::Args, Debug)]
@@ -51,6 +62,12 @@ pub struct ReconstructArgs {
     /// Number of Taylor basis functions n_b (1 to 20).
     #[arg(long, default_value_t = 3, value_parser = count, allow_negative_numbers = true)]
     order: usize,
+    /// How TLS computes the cell average of (x − x_c)² in ψ_3: exactly, or
+    /// from the antiderivative at the absolute cell ends, as a difference of
+    /// two values or as the six terms of the TLS author's TLS1D.py
+    /// (docs/conventions.md, "The TLS author's cell average").
+    #[arg(long, value_enum, default_value_t = TaylorAverageArg::Exact)]
+    taylor_average: TaylorAverageArg,
     /// Query points, inside the cells.
     #[arg(
         long,
@@ -175,6 +192,15 @@ fn fit(a: &ReconstructArgs, cells: &[(f64, f64)]) -> Result<Fitted> {
             };
             let options = taylor::TlsOptions {
                 order: a.order,
+                average: match a.taylor_average {
+                    TaylorAverageArg::Exact => taylor::CellAverage::Exact,
+                    TaylorAverageArg::AntiderivativeDifference => {
+                        taylor::CellAverage::AntiderivativeDifference
+                    }
+                    TaylorAverageArg::AntiderivativeSixTerms => {
+                        taylor::CellAverage::AntiderivativeSixTerms
+                    }
+                },
                 ..Default::default()
             };
             let r = taylor::reconstruct(cells, &a.points, &a.values, ints, options)?;

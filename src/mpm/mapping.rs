@@ -44,7 +44,7 @@ use crate::error::{Error, Result};
 use crate::quadrature::{half_span_points, GaussLegendre, QuadraturePoint};
 use crate::reconstruct::cubic_spline::{CubicSpline, EndCondition};
 use crate::reconstruct::taylor::{
-    reconstruct_binned, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
+    reconstruct_binned, CellAverage, CellBins, TlsOptions, TlsReconstruction, TlsScratch,
 };
 use crate::solve::direct::cholesky_solve;
 use crate::solve::richardson::{richardson_with, ResidualNorm};
@@ -182,6 +182,10 @@ pub struct MappingWorkspace {
     band: BandAssembly,
     active: Vec<usize>,
     rhs: Vec<f64>,
+    /// How the TLS fit of the density averages (x − x_c)² in ψ_3
+    /// ([`CellAverage`]); the simulation copies it from its settings every
+    /// step. The fits of ρv and σ always use the exact average.
+    pub tls_density_average: CellAverage,
 }
 
 impl MappingWorkspace {
@@ -211,6 +215,7 @@ impl MappingWorkspace {
             spare_splines: [None, None],
             active: Vec::with_capacity(n),
             rhs: Vec::with_capacity(n),
+            tls_density_average: CellAverage::Exact,
         })
     }
 
@@ -364,15 +369,20 @@ fn particle_tls(
     particles: &Particles,
     values: &[f64],
     integrals: Option<&[f64]>,
+    average: CellAverage,
     scratch: &mut TlsScratch,
 ) -> Result<TlsReconstruction> {
+    let options = TlsOptions {
+        average,
+        ..TlsOptions::default()
+    };
     reconstruct_binned(
         cells,
         bins,
         &particles.x,
         values,
         integrals,
-        TlsOptions::default(),
+        options,
         scratch,
     )
 }
@@ -401,6 +411,7 @@ pub fn internal_force(
                 particles,
                 stress,
                 None,
+                CellAverage::Exact,
                 &mut ws.tls_scratch,
             )?;
             let q = &ws.tls_quadrature;
@@ -605,6 +616,7 @@ pub fn assemble_projection(
         lumped,
         diagonal,
         band,
+        tls_density_average,
         ..
     } = ws;
     for v in [&mut *momentum, &mut *lumped, &mut *diagonal] {
@@ -633,6 +645,7 @@ pub fn assemble_projection(
             particles,
             cells,
             bins,
+            *tls_density_average,
             TlsBuffers {
                 scratch: tls_scratch,
                 quadrature: tls_quadrature,
@@ -670,6 +683,7 @@ fn accumulate_tls(
     particles: &Particles,
     cells: &[(f64, f64)],
     bins: &CellBins,
+    density_average: CellAverage,
     b: TlsBuffers,
 ) -> Result<()> {
     let TlsBuffers {
@@ -702,6 +716,7 @@ fn accumulate_tls(
         particles,
         density,
         Some(cell_mass),
+        density_average,
         tls_scratch,
     )?;
     let mom = particle_tls(
@@ -710,6 +725,7 @@ fn accumulate_tls(
         particles,
         product,
         Some(cell_momentum),
+        CellAverage::Exact,
         tls_scratch,
     )?;
     let q = quadrature;

@@ -46,6 +46,7 @@ use super::mapping::{internal_force, project_velocity, Mapping, MappingWorkspace
 use super::particles::Particles;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
+use crate::reconstruct::taylor::CellAverage;
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
@@ -134,6 +135,11 @@ pub struct Settings {
     /// Solve step 2 with the material-point consistent mass M^C = Σ m_p φφᵀ
     /// (sparse Cholesky) instead of the lumped mass (CFL study; book Eq. 4.1).
     pub consistent_acceleration: bool,
+    /// How the TLS density fit averages (x − x_c)² in ψ_3 (book Eq. 4.30):
+    /// exact, or with the TLS author's rounding (docs/conventions.md, "The
+    /// TLS author's cell average"). Not printed when exact.
+    #[serde(skip_serializing_if = "CellAverage::is_exact")]
+    pub tls_density_average: CellAverage,
 }
 
 /// The buffers of one step, allocated when the simulation starts: the basis
@@ -338,6 +344,7 @@ impl Simulation {
             }
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
+        ws.mapping.tls_density_average = self.settings.tls_density_average;
         ws.mapping.begin_step(grid, p, &mappings)
     }
 

@@ -10,6 +10,15 @@
 //! 0 for odd k and Δx^k/(k+1) for even k. Hence ∫_{Ω_e} ψ_i = |Ω_e| δ_{i1}
 //! (book Eq. 4.32, TLS paper Eq. 12).
 //!
+//! The average of (x − x_c)² may instead be taken as the TLS paper's first
+//! author computes it in her public `TLS1D.py` (repository `ewob/TLS`,
+//! 2020; read and run, not copied): from the antiderivative
+//! F(x) = x³/3 − x_c x² + x_c² x of (x − x_c)² at the absolute cell ends,
+//! divided by b − a ([`CellAverage`]). It is the same number in exact
+//! arithmetic; in floating point its rounding grows like ε·b³/(b − a), and
+//! that rounding is what the TLS paper's printed TLS mass errors measure
+//! (docs/conventions.md, "The TLS author's cell average").
+//!
 //! *Conservative* TLS fixes α_1 = c/|Ω_e| (book Eq. 4.35, TLS paper Eq. 14) and
 //! fits the rest, ψ_2 … ψ_{n_b}, to f − α_1 by least squares; the integral of
 //! the reconstruction is then c exactly (Eq. 4.34). *Unconstrained* TLS
@@ -26,18 +35,47 @@
 //! bins) share the fit's internals, and the repair needs the neighbours'
 //! fits, so it lives with the drivers.
 //!
-//! Items: [`MAX_ORDER`], [`TaylorBasis`], [`CellFit`], [`fit_cell`],
+//! Items: [`MAX_ORDER`], [`CellAverage`], [`TaylorBasis`], [`CellFit`], [`fit_cell`],
 //! [`DegenerateCells`], [`Assignment`], [`TlsOptions`],
 //! [`TlsReconstruction`], [`reconstruct`], [`CellBins`], [`TlsScratch`],
 //! [`reconstruct_binned`].
 
 use super::least_squares::fit_rows;
 use crate::error::{finite, finite_named, Error, Result};
+use serde::Serialize;
 
 /// The largest n_b hompm accepts. The seeds use n_b ≤ 3 (TLS paper §5);
 /// at n_b = 20 the scaled monomials of degree 19 already put κ(D) far
 /// beyond 1/ε for clustered data, and a larger n_b would only hide that.
 pub const MAX_ORDER: usize = 20;
+
+/// How the cell average of (x − x_c)² in ψ_3 is computed (book Eq. 4.30).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CellAverage {
+    /// Δx²/3, exact up to one rounding (hompm's reading of Eq. 4.30).
+    #[default]
+    Exact,
+    /// [F(b) − F(a)]/(b − a) with F(x) = x³/3 − x_c x² + x_c² x in absolute
+    /// coordinates, F evaluated at each end and the two values subtracted.
+    /// Its rounding error grows with |x|³/(b − a); it gives the TLS paper's
+    /// printed TLS mass errors (docs/conventions.md). Only ψ_3 is affected;
+    /// higher even powers stay exact.
+    AntiderivativeDifference,
+    /// The same antiderivative as the TLS author's `TLS1D.py` (ewob/TLS)
+    /// writes it: (1/3)b³ − x_c b² + x_c² b − (1/3)a³ + x_c a² − x_c² a,
+    /// summed from the left, over b − a. Its values agree with that code's
+    /// to rounding (scripts/author_tls_check.sh).
+    AntiderivativeSixTerms,
+}
+
+impl CellAverage {
+    /// Whether this is [`CellAverage::Exact`] (for serde's
+    /// `skip_serializing_if`, so that default settings print as before).
+    pub fn is_exact(&self) -> bool {
+        *self == CellAverage::Exact
+    }
+}
 
 /// The Taylor basis of order n_b on one cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +83,7 @@ pub struct TaylorBasis {
     a: f64,
     b: f64,
     order: usize,
+    average: CellAverage,
 }
 
 fn factorial(k: usize) -> f64 {
@@ -71,7 +110,17 @@ impl TaylorBasis {
                 "a Taylor basis needs 1 ≤ n_b ≤ {MAX_ORDER}, got {order}"
             )));
         }
-        Ok(Self { a, b, order })
+        Ok(Self {
+            a,
+            b,
+            order,
+            average: CellAverage::Exact,
+        })
+    }
+
+    /// The same basis with ψ_3's average computed by `average`.
+    pub fn with_average(self, average: CellAverage) -> Self {
+        Self { average, ..self }
     }
 
     /// n_b.
@@ -99,8 +148,29 @@ impl TaylorBasis {
         0.5 * (self.b - self.a)
     }
 
-    /// The exact cell average of (x − x_c)^k, book Eq. (4.30).
+    /// The cell average of (x − x_c)^k, book Eq. (4.30): exact, or for
+    /// k = 2 by an antiderivative in absolute coordinates ([`CellAverage`]).
     pub fn average_of_power(&self, k: usize) -> f64 {
+        if k == 2 {
+            let (a, b, c) = (self.a, self.b, self.centroid());
+            match self.average {
+                CellAverage::Exact => {}
+                CellAverage::AntiderivativeDifference => {
+                    let antiderivative = |x: f64| x * x * x / 3.0 - c * x * x + c * c * x;
+                    return (antiderivative(b) - antiderivative(a)) / (b - a);
+                }
+                CellAverage::AntiderivativeSixTerms => {
+                    // Each cube and square first, (1/3) rounded on its own,
+                    // the six terms summed from the left.
+                    let third = 1.0 / 3.0;
+                    let difference = third * (b * b * b) - c * (b * b) + (c * c) * b
+                        - third * (a * a * a)
+                        + c * (a * a)
+                        - (c * c) * a;
+                    return difference / (b - a);
+                }
+            }
+        }
         if k % 2 == 1 {
             0.0
         } else {
@@ -281,6 +351,8 @@ pub struct TlsOptions {
     /// Boundary-point assignment of [`reconstruct`], which bins the points
     /// itself; [`reconstruct_binned`] takes the bins as given and ignores it.
     pub assignment: Assignment,
+    /// How ψ_3's cell average is computed ([`CellAverage`]).
+    pub average: CellAverage,
 }
 
 impl Default for TlsOptions {
@@ -291,6 +363,7 @@ impl Default for TlsOptions {
             degenerate: DegenerateCells::VirtualPoints,
             max_condition: 1e10,
             assignment: Assignment::Closed,
+            average: CellAverage::Exact,
         }
     }
 }
@@ -513,6 +586,7 @@ pub fn reconstruct_binned(
         values,
         integrals,
         max_condition: options.max_condition,
+        average: options.average,
     };
     let TlsScratch { x: px, y: pv } = scratch;
     let mut out: Vec<Option<CellFit>> = Vec::with_capacity(cells.len());
@@ -549,6 +623,7 @@ struct BinnedData<'a> {
     values: &'a [f64],
     integrals: Option<&'a [f64]>,
     max_condition: f64,
+    average: CellAverage,
 }
 
 impl BinnedData<'_> {
@@ -571,7 +646,7 @@ impl BinnedData<'_> {
             return Ok(None);
         }
         fit_cell(
-            TaylorBasis::new(a, b, order)?,
+            TaylorBasis::new(a, b, order)?.with_average(self.average),
             px,
             pv,
             c,

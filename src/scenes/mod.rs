@@ -83,6 +83,7 @@ impl Discretisation {
             gravity_ramp,
             dirichlet,
             consistent_acceleration: false,
+            tls_density_average: crate::reconstruct::taylor::CellAverage::Exact,
         }
     }
 }

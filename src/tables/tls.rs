@@ -22,13 +22,15 @@ use super::{Computed, LabelledRow, RunOptions, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
+use crate::reconstruct::taylor::CellAverage;
 use crate::studies::tls_example::{
     example_reconstructions, relative_integral_error, rms_error, spreads, Spread, EXAMPLE_SEED,
 };
 use crate::studies::tls_paper::{
-    as_paper_ran, compaction, compactions, conservation_by_mapping, conservation_errors,
-    conservation_errors_for, fig6_errors, fig6_variants, fitted_order, stress_errors_against_ulfem,
-    subpoint_study, ConservationByMethod, SubpointStudy, TABLE_8_SUBPOINTS, TLS_METHODS,
+    as_paper_ran, compaction, compaction_with_average, compactions, conservation_by_mapping,
+    conservation_errors, fig6_errors, fig6_variants, fitted_order, stress_errors_against_ulfem,
+    subpoint_study, tls_author_average_errors, BarRun, ConservationByMethod, SubpointStudy,
+    TABLE_8_SUBPOINTS, TLS_METHODS,
 };
 use crate::studies::BarErrors;
 use std::collections::HashMap;
@@ -418,6 +420,38 @@ fn particle_quadrature_conservation_note(
     ))
 }
 
+/// The note of the TLS author's cell average: the TLS rows recomputed,
+/// by `run(method, average)`, with the density fit averaging (x − x_c)²
+/// from its antiderivative at the absolute cell ends, in both term orders
+/// ([`CellAverage`]; `TLS1D.py` of ewob/TLS).
+fn tls_author_average_note(
+    run: impl Fn(Method, CellAverage) -> Result<(f64, f64)> + Sync,
+) -> Result<String> {
+    let variants = [
+        (CellAverage::AntiderivativeDifference, "F(b) − F(a)"),
+        (
+            CellAverage::AntiderivativeSixTerms,
+            "the six terms of TLS1D.py",
+        ),
+    ];
+    let mut parts = Vec::new();
+    for (average, name) in variants {
+        let cells: Vec<String> = tls_author_average_errors(|m| run(m, average))?
+            .into_iter()
+            .map(|(m, (e_m, e_p))| {
+                format!("{} Error_M {e_m:.4e}, Error_P {e_p:.4e}", paper_name(m))
+            })
+            .collect();
+        parts.push(format!("{name}: {}", cells.join(", ")));
+    }
+    Ok(format!(
+        "TLS with the TLS author's cell average of (x − x_c)² on the density fit, from \
+         F(x) = x³/3 − x_c x² + x_c² x at the absolute cell ends (ewob/TLS TLS1D.py; \
+         docs/conventions.md, 'The TLS author's cell average'): {}",
+        parts.join("; ")
+    ))
+}
+
 fn tls_7() -> TableSpec {
     TableSpec {
         id: "tls-7",
@@ -451,6 +485,10 @@ fn tls_7() -> TableSpec {
                          free surface): {}",
                         clipped.join("; ")
                     ),
+                    tls_author_average_note(|m, average| {
+                        compaction_with_average(m, Mapping::Tls, average)
+                            .map(|r| (r.mass_error, r.momentum_error))
+                    })?,
                 ],
                 ..Default::default()
             })
@@ -466,9 +504,18 @@ fn tls_5() -> TableSpec {
                 large-strain update, 20 elements (knot spans), 8 PPC, Δt = 1e-4 s, 1000 steps (0.1 s); \
                 error measures and mappings as tls-3, consistent mass.",
         compute: |_| {
-            let run = |m, map| conservation_errors_for("tls-table-4", m, map, 20, 8, 1e-4, 1000);
+            let bar = BarRun { params: "tls-table-4", cells: 20, ppc: 8, dt: 1e-4, steps: 1000 };
+            let run = |m, map| bar.conservation_errors(m, map, CellAverage::Exact);
             let rows = conservation_rows(conservation_by_mapping(run)?);
-            Ok(Computed { rows, notes: vec![ddmpm_rule_note(), particle_quadrature_conservation_note(run)?], ..Default::default() })
+            Ok(Computed {
+                rows,
+                notes: vec![
+                    ddmpm_rule_note(),
+                    particle_quadrature_conservation_note(run)?,
+                    tls_author_average_note(|m, average| bar.conservation_errors(m, Mapping::Tls, average))?,
+                ],
+                ..Default::default()
+            })
         },
     }
 }
@@ -484,14 +531,23 @@ fn book_4_5_large() -> TableSpec {
             if o.quick {
                 return Ok(Computed::skipped_in_quick_mode());
             }
-            let (m, p) = conservation_errors_for("book-table-4.1-large", Method::Bsmpm { degree: 2 }, Mapping::Tls, 20, 8, 1e-5, 10_000)?;
+            let bar = BarRun { params: "book-table-4.1-large", cells: 20, ppc: 8, dt: 1e-5, steps: 10_000 };
+            let bsmpm = Method::Bsmpm { degree: 2 };
+            let (m, p) = bar.conservation_errors(bsmpm, Mapping::Tls, CellAverage::Exact)?;
+            let (m_author, p_author) =
+                bar.conservation_errors(bsmpm, Mapping::Tls, CellAverage::AntiderivativeDifference)?;
             let variants = [(Method::Mpm, Mapping::Direct), (Method::Bsmpm { degree: 2 }, Mapping::Tls)];
             let e: HashMap<_, _> =
                 stress_errors_against_ulfem("book-table-4.1-large", 119, 20, 8, 1e-5, 10_000, &variants)?.into_iter().collect();
             let (mpm, tls) = (e[&variants[0]], e[&variants[1]]);
             Ok(Computed {
                 rows: vec![Computed::row("TLS-BSMPM, consistent mass", [m, p, mpm / tls])],
-                notes: vec![format!("relative L2 stress errors against ULFEM with 120 DOFs (the book's reference): MPM {mpm:.4e}, TLS-BSMPM {tls:.4e}")], ..Default::default() })
+                notes: vec![
+                    format!("relative L2 stress errors against ULFEM with 120 DOFs (the book's reference): MPM {mpm:.4e}, TLS-BSMPM {tls:.4e}"),
+                    format!("TLS-BSMPM with the TLS author's cell average of (x − x_c)² on the density fit from F(b) − F(a), F(x) = x³/3 − x_c x² + x_c² x at the absolute cell ends (ewob/TLS TLS1D.py; docs/conventions.md, 'The TLS author's cell average'): Error_M {m_author:.4e}, Error_P {p_author:.4e}"),
+                ],
+                ..Default::default()
+            })
         },
     }
 }

@@ -64,6 +64,7 @@ fn two_particles_on(
         gravity_ramp: None,
         dirichlet: vec![],
         consistent_acceleration: false,
+        tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
     };
     let mut settings = settings;
     configure(&mut p, &mut settings);

@@ -111,6 +111,7 @@ pub fn free_settings(
         gravity_ramp: None,
         dirichlet: vec![],
         consistent_acceleration: false,
+        tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
     }
 }
 

@@ -5,7 +5,7 @@ use hompm::quadrature::{gauss_on_cells, GaussLegendre};
 use hompm::reconstruct::cubic_spline::{CubicSpline, EndCondition};
 use hompm::reconstruct::mls::{reconstruct_1d, shape_functions_1d, shape_functions_2d};
 use hompm::reconstruct::taylor::{
-    reconstruct, Assignment, DegenerateCells, TaylorBasis, TlsOptions,
+    reconstruct, Assignment, CellAverage, DegenerateCells, TaylorBasis, TlsOptions,
 };
 use hompm::Error;
 use proptest::prelude::*;
@@ -764,4 +764,38 @@ fn cell_bins_group_points_by_cell_in_input_order() {
     assert_eq!((bins.count(0), bins.count(1), bins.count(2)), (2, 2, 2));
     bins.fill(3, 1, |_| Ok((1, None))).unwrap();
     assert_eq!((bins.count(0), bins.count(1), bins.count(2)), (0, 1, 0));
+}
+
+/// The TLS author's cell average (docs/conventions.md, "The TLS author's
+/// cell average"): both antiderivative forms give book Eq. (4.30)'s Δx²/3
+/// near the origin, and their rounding grows with |x|³/(b − a) far from it,
+/// where the exact average stays exact.
+#[test]
+fn antiderivative_cell_averages_equal_the_exact_one_up_to_a_rounding_that_grows_with_the_cube() {
+    let authors = [
+        CellAverage::AntiderivativeDifference,
+        CellAverage::AntiderivativeSixTerms,
+    ];
+    for (a, b) in [(2.0, 3.0), (-0.75, 0.25), (0.1, 0.35)] {
+        let exact = (b - a) * (b - a) / 12.0;
+        for average in authors {
+            let basis = TaylorBasis::new(a, b, 3).unwrap().with_average(average);
+            let got = basis.average_of_power(2);
+            assert!(
+                (got - exact).abs() < 1e-14 * exact / (b - a),
+                "{average:?} on [{a}, {b}]: {got}"
+            );
+        }
+    }
+    // [999, 1001]: Δx = 1, the average is 1/3; F(1001) ≈ 3.3e8.
+    let far = TaylorBasis::new(999.0, 1001.0, 3).unwrap();
+    assert_eq!(far.average_of_power(2), 1.0 / 3.0);
+    for average in authors {
+        let got = far.with_average(average).average_of_power(2);
+        let error = (got - 1.0 / 3.0).abs();
+        assert!(
+            error > 1e-12 && error < 1e-6,
+            "{average:?}: error {error:e}"
+        );
+    }
 }

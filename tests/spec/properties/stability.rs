@@ -130,6 +130,7 @@ fn direct_lumped_settings(young: f64, dirichlet: Vec<usize>) -> hompm::mpm::musl
         gravity_ramp: None,
         dirichlet,
         consistent_acceleration: false,
+        tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
     }
 }
 
