@@ -144,8 +144,8 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         particles: ParticleJson {
             x0: pt.x0.clone(),
             x: pt.x.clone(),
-            u: pt.u.clone(),
-            v: pt.v.clone(),
+            u: pt.displacement.clone(),
+            v: pt.velocity.clone(),
             stress: pt.stress.clone(),
             volume: pt.volume.clone(),
             density: pt.density.clone(),
@@ -181,8 +181,8 @@ fn diagnostics_with_errors(s: &Setup1d, sim: &Simulation) -> Result<serde_json::
     let exact: Vec<_> = pt.x0.iter().map(|&x| exact_1d(&s.scene, x, t)).collect();
     type Pick = fn(&crate::oracle::exact::Exact1d) -> f64;
     let fields: [(&str, &[f64], Pick); 3] = [
-        ("rms_displacement", &pt.u, |e| e.u),
-        ("rms_velocity", &pt.v, |e| e.v),
+        ("rms_displacement", &pt.displacement, |e| e.u),
+        ("rms_velocity", &pt.velocity, |e| e.v),
         ("rms_stress", &pt.stress, |e| e.stress),
     ];
     if let Some(obj) = diagnostics.as_object_mut() {

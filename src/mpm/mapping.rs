@@ -548,7 +548,7 @@ fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: 
     if W == 0 || acc.consistent || p.is_empty() {
         for k in 0..p.len() {
             let m = p.mass[k];
-            accumulate::<W>(acc, s, k, m, m * p.v[k]);
+            accumulate::<W>(acc, s, k, m, m * p.velocity[k]);
         }
         return;
     }
@@ -568,7 +568,7 @@ fn accumulate_particles<const W: usize>(acc: &mut Accumulator, s: &Stencils, p: 
             lumped = load(acc.lumped, current);
             diagonal = load(acc.diagonal, current);
         }
-        let (rho_w, mom_w) = (p.mass[k], p.mass[k] * p.v[k]);
+        let (rho_w, mom_w) = (p.mass[k], p.mass[k] * p.velocity[k]);
         let values = &s.values[k * W..(k + 1) * W];
         let sum: f64 = values.iter().sum();
         for (a, &fa) in values.iter().enumerate() {
@@ -698,7 +698,7 @@ fn accumulate_tls(
     for e in 0..cells.len() {
         for &k in bins.points_of(e) {
             cell_mass[e] += particles.mass[k];
-            cell_momentum[e] += particles.mass[k] * particles.v[k];
+            cell_momentum[e] += particles.mass[k] * particles.velocity[k];
         }
     }
     product.clear();
@@ -706,7 +706,7 @@ fn accumulate_tls(
         particles
             .density
             .iter()
-            .zip(&particles.v)
+            .zip(&particles.velocity)
             .map(|(r, v)| r * v),
     );
     let density = &particles.density;
@@ -753,7 +753,7 @@ fn accumulate_spline(
 ) -> Result<()> {
     let [spare_rho, spare_vel] = spare_splines;
     let rho = particle_spline(order, sorted, spare_rho, particles, &particles.density)?;
-    let vel = particle_spline(order, sorted, spare_vel, particles, &particles.v)?;
+    let vel = particle_spline(order, sorted, spare_vel, particles, &particles.velocity)?;
     let q = quadrature;
     let (mut cursor_rho, mut cursor_vel) = (0, 0);
     for k in 0..q.points.len() {

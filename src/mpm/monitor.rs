@@ -146,7 +146,8 @@ impl StabilityMonitor {
         let energy = sim.energy();
         if energy > self.energy_budget {
             let p = &sim.particles;
-            let fastest = (0..p.len()).max_by(|&i, &j| p.v[i].abs().total_cmp(&p.v[j].abs()));
+            let fastest =
+                (0..p.len()).max_by(|&i, &j| p.velocity[i].abs().total_cmp(&p.velocity[j].abs()));
             return Err(Error::Diverged {
                 step,
                 time: sim.time,

@@ -66,7 +66,7 @@ pub enum StepPoint {
     Acceleration,
     /// Step 2: a_i = 0 on the Dirichlet DOFs.
     AccelerationConditions,
-    /// Step 3: v_p (book Eq. 4.9) in `particles.v`.
+    /// Step 3: v_p (book Eq. 4.9) in `particles.velocity`.
     ParticleVelocity,
     /// Step 4: the projection's right-hand side p_i and v_i (book Eq. 4.10)
     /// before the boundary conditions, in `workspace().mapping`.
@@ -210,7 +210,10 @@ pub struct Simulation {
 /// Kinetic plus strain energy Σ_p ½ m_p v_p² + ½ σ_p ε_p V_p.
 fn energy(p: &Particles) -> f64 {
     (0..p.len())
-        .map(|k| 0.5 * p.mass[k] * p.v[k] * p.v[k] + 0.5 * p.stress[k] * p.strain[k] * p.volume[k])
+        .map(|k| {
+            0.5 * p.mass[k] * p.velocity[k] * p.velocity[k]
+                + 0.5 * p.stress[k] * p.strain[k] * p.volume[k]
+        })
         .sum()
 }
 
@@ -439,7 +442,7 @@ impl Simulation {
     fn update_particle_velocities(&mut self, dt: f64) {
         let ws = &self.workspace;
         ws.stencils
-            .add_interpolated(dt, &ws.acceleration, &mut self.particles.v);
+            .add_interpolated(dt, &ws.acceleration, &mut self.particles.velocity);
     }
 
     /// Step 4, book Eq. (4.10) (or Eqs. 4.39–4.44 with TLS, thesis §7.2
@@ -462,7 +465,7 @@ impl Simulation {
         self.diagnostics.record_projection(
             &proj,
             &ws.mapping.velocity,
-            &p.v,
+            &p.velocity,
             total_mass,
             total_momentum,
         );
@@ -546,14 +549,14 @@ impl Simulation {
         let (lo, hi) = self.grid.domain();
         let mut outside = None;
         for k in 0..p.len() {
-            let finite = p.x[k].is_finite() && p.v[k].is_finite() && p.stress[k].is_finite();
+            let finite = p.x[k].is_finite() && p.velocity[k].is_finite() && p.stress[k].is_finite();
             if !finite || p.volume[k] <= 0.0 {
                 return Err(Error::NonPhysicalParticle {
                     particle: k,
                     step: self.diagnostics.steps,
                     time: self.time,
                     x: p.x[k],
-                    velocity: p.v[k],
+                    velocity: p.velocity[k],
                     stress: p.stress[k],
                     volume: p.volume[k],
                     negative_masses: self.diagnostics.negative_mass_steps > 0,
@@ -597,7 +600,7 @@ fn update_positions<const W: usize>(
             du += phi * dui;
             deps += grad * dui;
         }
-        p.u[k] += du;
+        p.displacement[k] += du;
         p.x[k] += du;
         *increment = deps;
     }

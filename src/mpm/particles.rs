@@ -18,9 +18,9 @@ pub struct Particles {
     /// Current positions x_p.
     pub x: Vec<f64>,
     /// Displacements u_p = x_p − X_p (accumulated by Eq. 4.12).
-    pub u: Vec<f64>,
+    pub displacement: Vec<f64>,
     /// Velocities v_p.
-    pub v: Vec<f64>,
+    pub velocity: Vec<f64>,
     /// Stresses σ_p.
     pub stress: Vec<f64>,
     /// Volumes V_p.
@@ -72,8 +72,8 @@ impl Particles {
         Ok(Self {
             x: x0.clone(),
             x0,
-            u: vec![0.0; n],
-            v: velocity,
+            displacement: vec![0.0; n],
+            velocity,
             stress,
             volume,
             density,
@@ -119,6 +119,10 @@ impl Particles {
 
     /// Total momentum Σ m_p v_p.
     pub fn total_momentum(&self) -> f64 {
-        self.mass.iter().zip(&self.v).map(|(m, v)| m * v).sum()
+        self.mass
+            .iter()
+            .zip(&self.velocity)
+            .map(|(m, v)| m * v)
+            .sum()
     }
 }

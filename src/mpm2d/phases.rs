@@ -296,26 +296,31 @@ fn wall_conditions(n: usize, field: &mut [[f64; 2]]) {
     }
 }
 
-/// Phase 2, MLS paper Eqs. (26)–(28): with the walls' conditions on f and
-/// (mv), (mv)_i ← (mv)_i + f_i Δt; `force` then holds a_i = f_i/m_i (27) and
-/// `velocity` the updated v_i = (mv)_i^{t+1}/m_i used by Eq. (30).
+/// Phase 2, MLS paper Eqs. (26)–(28), with the walls' conditions on f and
+/// (mv): `momentum_next` = (mv)_i^{t+1} = (mv)_i^t + f_i Δt (28),
+/// `acceleration` = a_i = f_i/m_i (27) and `velocity_next` =
+/// (mv)_i^{t+1}/m_i, the velocity Eq. (30) moves the particles with. The
+/// phase-1 buffers `force` and `momentum` keep f_i and (mv)_i^t.
 pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
     let n = grid.nodes_per_side();
-    wall_conditions(n, &mut ws.force);
-    wall_conditions(n, &mut ws.momentum);
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
-        let (f, mv) = (&mut ws.force[i], &mut ws.momentum[i]);
-        mv[0] += f[0] * dt;
-        mv[1] += f[1] * dt;
+        let (f, mv) = (ws.force[i], ws.momentum[i]);
+        let next = [mv[0] + f[0] * dt, mv[1] + f[1] * dt];
+        ws.momentum_next[i] = next;
         if m > 0.0 {
-            *f = [f[0] / m, f[1] / m];
-            ws.velocity[i] = [mv[0] / m, mv[1] / m];
+            ws.acceleration[i] = [f[0] / m, f[1] / m];
+            ws.velocity_next[i] = [next[0] / m, next[1] / m];
         } else {
-            *f = [0.0; 2];
-            ws.velocity[i] = [0.0; 2];
+            ws.acceleration[i] = [0.0; 2];
+            ws.velocity_next[i] = [0.0; 2];
         }
     }
+    // A wall component of f and (mv)^t is zero, and so is every value
+    // computed from it: zeroing the results is the same, bit for bit.
+    wall_conditions(n, &mut ws.momentum_next);
+    wall_conditions(n, &mut ws.acceleration);
+    wall_conditions(n, &mut ws.velocity_next);
 }
 
 /// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
@@ -343,7 +348,8 @@ fn update_particles_with<const W: usize>(
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
         for (b, &nb) in vy.iter().enumerate() {
             let row = (sy.first[k] + b) * n + sx.first[k];
-            let (acc, vel) = (&ws.force[row..row + w], &ws.velocity[row..row + w]);
+            let acc = &ws.acceleration[row..row + w];
+            let vel = &ws.velocity_next[row..row + w];
             for i in 0..w {
                 let nn = vx[i] * nb;
                 a[0] += nn * acc[i][0];
@@ -363,15 +369,15 @@ fn update_particles_with<const W: usize>(
 /// MLS paper Eqs. (31)–(33): the particles' new velocities mapped again,
 /// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (direct) or Σ_g N_i (ρv)_g^L ω_g with
 /// (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} (MLS or TLS, the φ_gp of phase 1),
-/// then v_i^L = (mv)_i^L / m_i with the walls' conditions. Writes v^L into
-/// `velocity`.
+/// then v_i^L = (mv)_i^L / m_i with the walls' conditions. Writes (mv)^L
+/// into `momentum_end` and v^L into `velocity_end`.
 pub fn end_of_step_velocity(
     grid: &Grid2d,
     p: &Particles2d,
     ws: &mut Workspace2d,
     mapping: Mapping2d,
 ) {
-    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    ws.momentum_end.iter_mut().for_each(|m| *m = [0.0; 2]);
     let n = grid.nodes_per_side();
     match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
         (true, Some(shapes)) => {
@@ -394,7 +400,7 @@ pub fn end_of_step_velocity(
                     s,
                     gy,
                     [q[0] * omega, q[1] * omega],
-                    &mut ws.momentum,
+                    &mut ws.momentum_end,
                 );
             }
         }
@@ -405,17 +411,18 @@ pub fn end_of_step_velocity(
     }
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
-        ws.velocity[i] = if m > 0.0 {
-            [ws.momentum[i][0] / m, ws.momentum[i][1] / m]
+        ws.velocity_end[i] = if m > 0.0 {
+            [ws.momentum_end[i][0] / m, ws.momentum_end[i][1] / m]
         } else {
             [0.0; 2]
         };
     }
-    wall_conditions(n, &mut ws.velocity);
+    wall_conditions(n, &mut ws.velocity_end);
 }
 
 /// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (Eq. 31 with the particles as the
-/// quadrature points) into `momentum`, for stencil width `W` (0: any width).
+/// quadrature points) into `momentum_end`, for stencil width `W` (0: any
+/// width).
 fn map_particle_momentum_with<const W: usize>(
     grid: &Grid2d,
     p: &Particles2d,
@@ -429,7 +436,7 @@ fn map_particle_momentum_with<const W: usize>(
         let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
         for (b, &nb) in vy.iter().enumerate() {
             let row = (sy.first[k] + b) * n + sx.first[k];
-            let momentum = &mut ws.momentum[row..row + w];
+            let momentum = &mut ws.momentum_end[row..row + w];
             for a in 0..w {
                 let nn = vx[a] * nb;
                 momentum[a][0] += nn * mv[0];
@@ -512,7 +519,7 @@ fn update_deformation_with<const W: usize>(
         let mut l = [0.0; 4];
         for b in 0..w {
             let row = (sy.first[k] + b) * n + sx.first[k];
-            let vel = &ws.velocity[row..row + w];
+            let vel = &ws.velocity_end[row..row + w];
             for a in 0..w {
                 let dn = [gx[a] * vy[b], vx[a] * gy[b]];
                 l[0] += vel[a][0] * dn[0];

@@ -124,12 +124,12 @@ pub enum StepPoint2d {
     /// Phase 1 (Eqs. 18–25): m_i, (mv)_i and f_i = f^b + f^int in the
     /// workspace (and, with MLS, the Gauss-point values of Eqs. 18–21).
     GridMapping,
-    /// Phase 2 (Eqs. 26–28): `force` holds a_i, `momentum` (mv)^{t+1},
-    /// `velocity` v^{t+1} = (mv)^{t+1}/m.
+    /// Phase 2 (Eqs. 26–28): `acceleration` holds a_i, `momentum_next`
+    /// (mv)^{t+1}, `velocity_next` v^{t+1} = (mv)^{t+1}/m.
     NodalUpdate,
     /// Phase 3 (Eqs. 29–30): v_p, x_p and u_p.
     ParticleUpdate,
-    /// Eqs. (31)–(33): `momentum` holds (mv)^L, `velocity` v^L.
+    /// Eqs. (31)–(33): `momentum_end` holds (mv)^L, `velocity_end` v^L.
     EndOfStepVelocity,
     /// Eqs. (34)–(37), (41): F_p, V_p, ρ_p, σ_p.
     Deformation,
@@ -210,12 +210,23 @@ pub struct Workspace2d {
     pub body_force: Vec<[f64; 2]>,
     /// Lumped nodal masses m_i (Eq. 22).
     pub mass: Vec<f64>,
-    /// Nodal momenta (mv)_i, (Eqs. 23 and 28).
+    /// Nodal momenta (mv)_i^t of phase 1 (Eq. 23).
     pub momentum: Vec<[f64; 2]>,
-    /// Nodal forces f_i (Eqs. 24–26).
+    /// Nodal forces f_i = f_i^b + f_i^int of phase 1 (Eqs. 24–26), before
+    /// the walls' conditions.
     pub force: Vec<[f64; 2]>,
-    /// End-of-step nodal velocities v_i^L (Eq. 33).
-    pub velocity: Vec<[f64; 2]>,
+    /// Nodal accelerations a_i = f_i/m_i (Eq. 27), zero normal to the walls.
+    pub acceleration: Vec<[f64; 2]>,
+    /// Updated nodal momenta (mv)_i^{t+1} = (mv)_i^t + f_i Δt (Eq. 28).
+    pub momentum_next: Vec<[f64; 2]>,
+    /// Updated nodal velocities v_i^{t+1} = (mv)_i^{t+1}/m_i, which move the
+    /// particles (Eq. 30).
+    pub velocity_next: Vec<[f64; 2]>,
+    /// End-of-step nodal momenta (mv)_i^L (Eqs. 31–32).
+    pub momentum_end: Vec<[f64; 2]>,
+    /// End-of-step nodal velocities v_i^L = (mv)_i^L/m_i (Eq. 33), which
+    /// update the deformation (Eq. 34).
+    pub velocity_end: Vec<[f64; 2]>,
     /// The Gauss-point reconstruction (MLS or TLS) of a reconstructed
     /// mapping; `None` for the direct mapping.
     pub reconstruction: Option<Box<dyn GaussReconstruction>>,
@@ -291,7 +302,11 @@ impl Simulation2d {
             mass: vec![0.0; nodes],
             momentum: vec![[0.0; 2]; nodes],
             force: vec![[0.0; 2]; nodes],
-            velocity: vec![[0.0; 2]; nodes],
+            acceleration: vec![[0.0; 2]; nodes],
+            momentum_next: vec![[0.0; 2]; nodes],
+            velocity_next: vec![[0.0; 2]; nodes],
+            momentum_end: vec![[0.0; 2]; nodes],
+            velocity_end: vec![[0.0; 2]; nodes],
             particle_values: if reconstruction.is_some() {
                 vec![[0.0; 8]; n]
             } else {

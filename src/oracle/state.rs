@@ -234,8 +234,8 @@ pub fn state_1d(setup: &Setup1d, sim: &crate::mpm::musl::Simulation) -> State {
     for (name, col) in [
         ("x0", &p.x0),
         ("x", &p.x),
-        ("u", &p.u),
-        ("v", &p.v),
+        ("u", &p.displacement),
+        ("v", &p.velocity),
         ("stress", &p.stress),
         ("volume", &p.volume),
         ("density", &p.density),

@@ -223,7 +223,7 @@ impl StepObserver for TraceObserver {
                 self.put("book-4.8-bc", &a);
             }
             StepPoint::ParticleVelocity => {
-                let v = p.v.clone();
+                let v = p.velocity.clone();
                 self.put("book-4.9", &v);
             }
             StepPoint::NodalVelocity => {
@@ -240,7 +240,11 @@ impl StepObserver for TraceObserver {
             }
             StepPoint::Positions => {
                 let du: Vec<f64> = ws.mapping.velocity.iter().map(|v| self.dt * v).collect();
-                let (u, x, de) = (p.u.clone(), p.x.clone(), ws.strain_increment.clone());
+                let (u, x, de) = (
+                    p.displacement.clone(),
+                    p.x.clone(),
+                    ws.strain_increment.clone(),
+                );
                 self.put("book-4.11", &du);
                 self.put("book-4.12", &u);
                 self.put("book-4.13", &x);
@@ -304,8 +308,8 @@ impl StepObserver2d for TraceObserver2d {
                 r.put("mls-26", flat2(&ws.force));
             }
             StepPoint2d::NodalUpdate => {
-                r.put("mls-27", flat2(&ws.force));
-                r.put("mls-28", flat2(&ws.momentum));
+                r.put("mls-27", flat2(&ws.acceleration));
+                r.put("mls-28", flat2(&ws.momentum_next));
             }
             StepPoint2d::ParticleUpdate => {
                 r.put("mls-29", flat2(&p.velocity));
@@ -314,8 +318,8 @@ impl StepObserver2d for TraceObserver2d {
                 r.put("mls-30-u", flat2(&p.displacement));
             }
             StepPoint2d::EndOfStepVelocity => {
-                r.put("mls-32", flat2(&ws.momentum));
-                r.put("mls-33", flat2(&ws.velocity));
+                r.put("mls-32", flat2(&ws.momentum_end));
+                r.put("mls-33", flat2(&ws.velocity_end));
             }
             StepPoint2d::Deformation => {
                 r.put("mls-35", flat4(&p.deformation));

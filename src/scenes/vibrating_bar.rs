@@ -134,7 +134,7 @@ impl BarParameters {
         let grid = Grid::new(d.method, 0.0, self.length, d.cells)?;
         let mut particles = Particles::uniform(0.0, self.length, d.cells * d.ppc, self.density)?;
         for k in 0..particles.len() {
-            particles.v[k] = self.velocity(particles.x0[k], 0.0);
+            particles.velocity[k] = self.velocity(particles.x0[k], 0.0);
         }
         let last = grid.num_dofs() - 1;
         let settings = d.settings(self.constitutive, self.young, 0.0, None, vec![0, last]);

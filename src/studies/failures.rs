@@ -57,7 +57,7 @@ fn column_run(method: Method, cells: usize) -> Result<ColumnRun> {
         .map(|&y| p.displacement(y, sim.time, 200))
         .collect();
     Ok(ColumnRun {
-        error: rms_error(&sim.particles.u, &exact)?,
+        error: rms_error(&sim.particles.displacement, &exact)?,
         crossings: sim.diagnostics.grid_crossings,
     })
 }
@@ -105,7 +105,7 @@ fn bar_run(method: Method, ppc: usize, steps: usize) -> Result<(f64, usize, f64)
         .collect();
     let d = &sim.diagnostics;
     Ok((
-        rms_error(&sim.particles.u, &exact)?,
+        rms_error(&sim.particles.displacement, &exact)?,
         d.negative_mass_steps,
         d.min_lumped_mass,
     ))

@@ -61,7 +61,7 @@ pub fn bar_extremes(
         sim.step(dt)?;
         max_displacement = sim
             .particles
-            .u
+            .displacement
             .iter()
             .fold(max_displacement, |a, u| a.max(u.abs()));
     }
@@ -212,9 +212,9 @@ pub fn bar_errors(params: &str, d: &Discretisation, dt: f64, steps: usize) -> Re
     Ok(BarErrors {
         cells: d.cells,
         h: p.length / d.cells as f64,
-        displacement: rms_error(&sim.particles.u, &u)?,
-        velocity: rms_error(&sim.particles.v, &v)?,
-        velocity_half_step: rms_error(&sim.particles.v, &vh)?,
+        displacement: rms_error(&sim.particles.displacement, &u)?,
+        velocity: rms_error(&sim.particles.velocity, &v)?,
+        velocity_half_step: rms_error(&sim.particles.velocity, &vh)?,
         grid_velocity: rms_error(&vg, &v)?,
         grid_velocity_half_step: rms_error(&vg, &vh)?,
         stress: rms_error(&sim.particles.stress, &s)?,

@@ -169,7 +169,7 @@ fn bar_rms_uncached(key: RunKey) -> Result<f64> {
         .iter()
         .map(|&x| params.displacement(x, t))
         .collect();
-    rms_error(&sim.particles.u, &exact)
+    rms_error(&sim.particles.displacement, &exact)
 }
 
 /// [`bar_rms_with`] with the variant's own mass matrix, under the

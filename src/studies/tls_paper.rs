@@ -294,7 +294,11 @@ pub fn compaction_with_average(
         mass_error: sim.diagnostics.max_mass_error,
         momentum_error: sim.diagnostics.max_momentum_error,
         crossings: sim.diagnostics.grid_crossings,
-        max_displacement: sim.particles.u.iter().fold(0.0, |a: f64, u| a.max(u.abs())),
+        max_displacement: sim
+            .particles
+            .displacement
+            .iter()
+            .fold(0.0, |a: f64, u| a.max(u.abs())),
     })
 }
 

@@ -191,7 +191,7 @@ fn a_step_after_the_particles_were_replaced_is_a_fresh_step() {
 fn eq_4_9_particle_velocity_takes_the_interpolated_acceleration() {
     // v0 = 1 + 0.1(½·2 + ½·(−2.25)), v1 = −2 + 0.1(¾·(−2.25) + ¼·0.25)
     assert_all(
-        &two_particles(Constitutive::SmallStrain).particles.v,
+        &two_particles(Constitutive::SmallStrain).particles.velocity,
         &[0.9875, -2.1625],
     );
 }
@@ -213,7 +213,7 @@ fn eqs_4_11_to_4_13_displacement_and_position_move_with_the_grid() {
     // Δu_i = 0.1 v_i = [0.09875, −0.09025, −0.21625];
     // Δu_0 = ½(0.09875 − 0.09025), Δu_1 = ¾(−0.09025) + ¼(−0.21625)
     let sim = two_particles(Constitutive::SmallStrain);
-    assert_all(&sim.particles.u, &[0.00425, -0.12175]);
+    assert_all(&sim.particles.displacement, &[0.00425, -0.12175]);
     assert_all(&sim.particles.x, &[0.50425, 1.12825]);
     assert_all(&sim.particles.x0, &[0.5, 1.25]);
 }

@@ -107,7 +107,7 @@ fn a_traced_run_is_bit_identical_to_an_untraced_one() {
         assert_eq!(trace.steps.len(), 20);
         // The trace's last u_p and σ_p are the run's final state.
         let last = &trace.steps[19].equations;
-        assert_eq!(last["book-4.12"], traced.simulation.particles.u);
+        assert_eq!(last["book-4.12"], traced.simulation.particles.displacement);
         assert_eq!(last["book-4.15"], traced.simulation.particles.stress);
     }
 }
@@ -363,7 +363,7 @@ fn the_rms_error_against_the_exact_solution_is_the_thesis_rms_at_the_initial_pos
     let sum: f64 = p
         .x0
         .iter()
-        .zip(&p.u)
+        .zip(&p.displacement)
         .map(|(x, u)| {
             let exact =
                 bar.v0 / omega * (omega * t).sin() * (std::f64::consts::PI * x / bar.length).sin();
@@ -700,7 +700,7 @@ fn check_names_eq_27_and_the_node_component_for_a_2d_acceleration_defect() {
     impl StepObserver2d for Defective2d {
         fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> hompm::Result<()> {
             if point == StepPoint2d::NodalUpdate && sim.steps + 1 == 2 {
-                for a in &mut sim.workspace.force {
+                for a in &mut sim.workspace.acceleration {
                     a[1] *= 1.01;
                 }
             }

@@ -239,7 +239,7 @@ fn fig6_bsmpm_stress_order_is_p_under_every_stress_definition_tried() {
             sim.run(1e-7, 19).unwrap();
             let (t, q) = (sim.time, &sim.particles);
             let exact: Vec<f64> = q.x0.iter().map(|&x| p.stress(x, t)).collect();
-            let u = CubicSpline::new(&q.x0, &q.u, EndCondition::NotAKnot).unwrap();
+            let u = CubicSpline::new(&q.x0, &q.displacement, EndCondition::NotAKnot).unwrap();
             let dx = 1e-6 * p.length / cells as f64;
             let from_u: Vec<f64> =
                 q.x0.iter()

@@ -594,7 +594,7 @@ fn one_bilinear_step_by_hand() {
     for i in [2, 5, 6, 7, 8] {
         assert_eq!(ws.mass[i], 0.0);
         assert_eq!(
-            (ws.force[i], ws.velocity[i]),
+            (ws.acceleration[i], ws.velocity_end[i]),
             ([0.0; 2], [0.0; 2]),
             "node {i}"
         );
@@ -624,7 +624,12 @@ fn the_particle_velocity_update_hands_the_particles_the_momentum_the_grid_gained
         // Rounding of the momenta themselves, ~1e-16 Σ m |v| each.
         let rounding = 1e-13 * speed_scale(&sim.particles);
         for d in 0..2 {
-            let gained: f64 = ws.mass.iter().zip(&ws.force).map(|(m, a)| m * a[d]).sum();
+            let gained: f64 = ws
+                .mass
+                .iter()
+                .zip(&ws.acceleration)
+                .map(|(m, a)| m * a[d])
+                .sum();
             assert!(gained.abs() > 1e-3, "{basis:?}: the test needs a force");
             assert_relative_eq!(after[d] - before[d], dt * gained, epsilon = rounding);
         }
@@ -651,7 +656,7 @@ fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() 
         sim.step(dt).unwrap();
         let kv = KnotVector::open_uniform(0.0, 1.0, 3, degree).unwrap();
         let tensor = TensorBasis2d::new(kv.clone(), kv);
-        let v = &sim.workspace.velocity;
+        let v = &sim.workspace.velocity_end;
         let mut largest_shear: f64 = 0.0;
         for k in 0..p.len() {
             let loc = tensor.local_basis(p.x[k], p.y[k]).unwrap();
@@ -804,9 +809,9 @@ fn the_total_lagrangian_reference_maps_first_piola_stress_at_the_initial_positio
             let expected = if nodes.contains(&i) { 0.5 } else { 0.0 };
             assert_relative_eq!(m, expected, epsilon = 1e-15);
         }
-        // After the nodal update (Eq. 27), `force` holds a = f/m.
-        assert_relative_eq!(ws.force[4][0], acceleration[0], max_relative = 1e-14);
-        assert_relative_eq!(ws.force[4][1], acceleration[1], max_relative = 1e-14);
+        // The nodal update (Eq. 27) leaves a = f/m in `acceleration`.
+        assert_relative_eq!(ws.acceleration[4][0], acceleration[0], max_relative = 1e-14);
+        assert_relative_eq!(ws.acceleration[4][1], acceleration[1], max_relative = 1e-14);
     }
 }
 
@@ -1025,7 +1030,7 @@ fn the_mls_mapping_integrates_linear_fields_exactly() {
         &mut sim.workspace,
         Mapping2d::Mls,
     );
-    for (got, want) in sim.workspace.momentum.iter().zip(&mv) {
+    for (got, want) in sim.workspace.momentum_end.iter().zip(&mv) {
         for (g, w) in got.iter().zip(want) {
             assert_relative_eq!(*g, *w, epsilon = 1e-10 * rho);
         }
@@ -1482,4 +1487,45 @@ fn a_particle_crossing_a_cell_boundary_moves_tls_nodal_masses_by_a_jump() {
     assert!(direct < 1e-7, "direct {direct:e}");
     assert!(mls < 1e-7, "MLS {mls:e}");
     assert!(tls > 1e-3, "TLS {tls:e}");
+}
+
+/// Eqs. (26)–(28) and (31)–(33), one buffer per quantity: after a step the
+/// phase-1 buffers still hold f_i and (mv)_i^t, and the later ones hold
+/// what their equations make of them, with zero normal components on the
+/// walls: (mv)^{t+1} = (mv)^t + Δt f, a = f/m, v^{t+1} = (mv)^{t+1}/m and
+/// v^L = (mv)^L/m.
+#[test]
+fn every_nodal_buffer_keeps_the_quantity_of_its_equation_through_a_step() {
+    for basis in [Basis2d::Bilinear, Basis2d::BSpline { degree: 2 }] {
+        let p = randomly_moving(scattered_particles(3, 2, 0.9, 41), 43);
+        let mut sim = direct_on_three_cells(basis, p, Some(Box::new(Gravity)));
+        let dt = 1e-3;
+        sim.step(dt).unwrap();
+        let (ws, n) = (&sim.workspace, sim.grid.nodes_per_side());
+        let mut checked = 0;
+        for i in 0..ws.mass.len() {
+            let m = ws.mass[i];
+            if m <= 0.0 {
+                continue;
+            }
+            let (ix, iy) = (i % n, i / n);
+            for d in 0..2 {
+                let on_wall = if d == 0 {
+                    ix == 0 || ix == n - 1
+                } else {
+                    iy == 0 || iy == n - 1
+                };
+                let wall = |x: f64| if on_wall { 0.0 } else { x };
+                let next = wall(ws.momentum[i][d] + dt * ws.force[i][d]);
+                assert_eq!(ws.momentum_next[i][d], next, "{basis:?} node {i}");
+                assert_eq!(ws.acceleration[i][d], wall(ws.force[i][d] / m));
+                assert_eq!(ws.velocity_next[i][d], next / m);
+                assert_eq!(ws.velocity_end[i][d], wall(ws.momentum_end[i][d] / m));
+                checked += usize::from(!on_wall && ws.force[i][d] != 0.0);
+            }
+        }
+        assert!(checked > 4, "{basis:?}: the test needs interior forces");
+        // (mv)^t and (mv)^L differ: the particles' velocities changed.
+        assert_ne!(ws.momentum, ws.momentum_end);
+    }
 }

@@ -101,7 +101,7 @@ fn rigid_translation_creates_no_stress() {
                 Grid::new(method, -1.0, 2.0, 12).unwrap()
             };
             let mut p = Particles::uniform(0.0, 1.0, 16, 1.0).unwrap();
-            p.v = vec![0.3; 16];
+            p.velocity = vec![0.3; 16];
             let settings = common::free_settings(
                 mapping,
                 MassMatrix::Consistent(ConsistentSolver::Cholesky),
@@ -116,9 +116,9 @@ fn rigid_translation_creates_no_stress() {
                     sim.particles.stress[k]
                 );
                 assert!(
-                    (sim.particles.u[k] - 3e-4).abs() < 1e-12,
+                    (sim.particles.displacement[k] - 3e-4).abs() < 1e-12,
                     "{method:?} {mapping:?}: u = {}",
-                    sim.particles.u[k]
+                    sim.particles.displacement[k]
                 );
             }
         }

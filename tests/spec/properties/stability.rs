@@ -226,10 +226,10 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
     assert!(monitor.warnings().is_empty());
     assert_eq!(monitor.check(&sim), Ok(()));
 
-    sim.particles.v = vec![1.0, 3.0];
+    sim.particles.velocity = vec![1.0, 3.0];
     assert_eq!(sim.energy(), 10.0);
     assert_eq!(monitor.check(&sim), Ok(()), "at the budget the run goes on");
-    sim.particles.v = vec![1.0, 3.5];
+    sim.particles.velocity = vec![1.0, 3.5];
     match monitor.check(&sim) {
         Err(Error::Diverged {
             particle: Some(1),
@@ -239,7 +239,7 @@ fn the_monitor_stops_above_the_energy_budget_and_at_unit_strain() {
         other => panic!("expected energy growth at particle 1, got {other:?}"),
     }
 
-    sim.particles.v = vec![1.0, 0.0];
+    sim.particles.velocity = vec![1.0, 0.0];
     sim.particles.strain = vec![0.0, -0.999];
     assert_eq!(monitor.check(&sim), Ok(()));
     sim.particles.strain = vec![0.0, -1.0];
@@ -334,7 +334,7 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
         sim.particles = clean.clone();
         let target = match field {
             "x" => &mut sim.particles.x,
-            "v" => &mut sim.particles.v,
+            "v" => &mut sim.particles.velocity,
             "stress" => &mut sim.particles.stress,
             _ => &mut sim.particles.volume,
         };

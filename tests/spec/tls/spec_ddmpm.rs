@@ -273,7 +273,7 @@ fn a_step_refreshes_the_node_integrals_from_the_particles_at_its_start() {
     use hompm::mpm::particles::Particles;
     let grid = Grid::new(Method::DDMPM_PARTICLES, 0.0, 2.0, 4).unwrap();
     let mut p = Particles::uniform(0.0, 1.3, 8, 1.0).unwrap();
-    p.v = (0..8).map(|k| 0.1 * k as f64).collect();
+    p.velocity = (0..8).map(|k| 0.1 * k as f64).collect();
     let settings = common::free_settings(Mapping::Direct, MassMatrix::Lumped, 10.0);
     let mut sim = Simulation::new(grid, p, settings).unwrap();
     for _ in 0..3 {
