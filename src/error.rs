@@ -47,9 +47,33 @@ pub enum Error {
         /// Right end of the domain.
         b: f64,
     },
-    /// Any other argument out of its documented range (dt ≤ 0, zero spans, …).
+    /// Any other argument out of its documented range (zero spans, …),
+    /// for a person to read.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// Two inputs that go together have different lengths: values and their
+    /// points, particle arrays, a right-hand side and its system.
+    #[error("{what}: {got} given, {expected} needed")]
+    LengthMismatch {
+        /// The shorter or longer input, and what its length must match.
+        what: String,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        got: usize,
+    },
+    /// A quantity that must be positive and finite is not: Δt, a density,
+    /// a volume, the length of a cell or domain, a support scale.
+    #[error("{what} must be positive and finite, got {value}")]
+    NotPositive {
+        /// The quantity.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+    /// An input that needs at least one item has none (particles, cells).
+    #[error("no {0}")]
+    Empty(String),
     /// A linear system that cannot be solved (singular or not positive definite).
     #[error("singular system: {0}")]
     Singular(String),

@@ -77,9 +77,10 @@ impl LagrangeBasis {
         finite("left end a", a)?;
         finite("right end b", b)?;
         if b <= a {
-            return Err(Error::InvalidArgument(format!(
-                "the domain [{a}, {b}] has zero or negative length"
-            )));
+            return Err(Error::NotPositive {
+                what: format!("the length of the domain [{a}, {b}]"),
+                value: b - a,
+            });
         }
         if elements == 0 {
             return Err(Error::InvalidArgument(

@@ -32,11 +32,11 @@ pub fn assemble(
     size: usize,
 ) -> Result<Mat<f64>> {
     if element_matrices.len() != connectivity.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} element matrices but {} connectivity lists",
-            element_matrices.len(),
-            connectivity.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "connectivity lists (one per element matrix)".into(),
+            expected: element_matrices.len(),
+            got: connectivity.len(),
+        });
     }
     let mut global = Mat::<f64>::zeros(size, size);
     for (e, (me, dofs)) in element_matrices.iter().zip(connectivity).enumerate() {
@@ -156,11 +156,11 @@ pub fn lumped_variational(
 
 fn check_particles(positions: &[f64], masses: &[f64]) -> Result<()> {
     if positions.len() != masses.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} positions but {} masses",
-            positions.len(),
-            masses.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "masses (one per position)".into(),
+            expected: positions.len(),
+            got: masses.len(),
+        });
     }
     for (k, (&x, &m)) in positions.iter().zip(masses).enumerate() {
         finite_named(x, || format!("position of particle {k}"))?;

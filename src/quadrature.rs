@@ -180,9 +180,10 @@ fn check_cell(a: f64, b: f64) -> Result<()> {
     finite("cell end", a)?;
     finite("cell end", b)?;
     if b <= a {
-        return Err(Error::InvalidArgument(format!(
-            "cell [{a}, {b}] has zero or negative length"
-        )));
+        return Err(Error::NotPositive {
+            what: format!("the length of cell [{a}, {b}]"),
+            value: b - a,
+        });
     }
     Ok(())
 }

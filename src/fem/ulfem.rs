@@ -106,9 +106,10 @@ impl Ulfem {
     /// One Euler–Cromer step.
     pub fn step(&mut self, dt: f64) -> Result<()> {
         if dt.is_nan() || dt <= 0.0 {
-            return Err(Error::InvalidArgument(format!(
-                "the time step must be positive, got {dt}"
-            )));
+            return Err(Error::NotPositive {
+                what: "the time step".into(),
+                value: dt,
+            });
         }
         let n = self.x.len();
         let mut f = vec![0.0; n];

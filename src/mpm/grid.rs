@@ -370,11 +370,11 @@ impl Grid {
             NodeIntegrals::EndSubpoints(n) => (n, |s, n| s as f64 / (n - 1) as f64),
         };
         if positions.len() != volumes.len() {
-            return Err(Error::InvalidArgument(format!(
-                "{} positions but {} volumes",
-                positions.len(),
-                volumes.len()
-            )));
+            return Err(Error::LengthMismatch {
+                what: "volumes (one per position)".into(),
+                expected: positions.len(),
+                got: volumes.len(),
+            });
         }
         let (a, b) = basis.domain();
         dd.node_volume.fill(0.0);

@@ -610,9 +610,10 @@ fn update_positions<const W: usize>(
 /// step both check it here.
 pub fn check_time_step(dt: f64) -> Result<()> {
     if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
-        return Err(Error::InvalidArgument(format!(
-            "the time step must be positive and finite, got {dt}"
-        )));
+        return Err(Error::NotPositive {
+            what: "the time step".into(),
+            value: dt,
+        });
     }
     Ok(())
 }

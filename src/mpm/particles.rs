@@ -46,16 +46,21 @@ impl Particles {
         stress: Vec<f64>,
     ) -> Result<Self> {
         let n = x0.len();
-        if [volume.len(), density.len(), velocity.len(), stress.len()]
-            .iter()
-            .any(|&l| l != n)
-        {
-            return Err(Error::InvalidArgument(
-                "particle arrays differ in length".into(),
-            ));
+        let lengths = [
+            ("volumes", volume.len()),
+            ("densities", density.len()),
+            ("velocities", velocity.len()),
+            ("stresses", stress.len()),
+        ];
+        if let Some(&(what, got)) = lengths.iter().find(|&&(_, l)| l != n) {
+            return Err(Error::LengthMismatch {
+                what: format!("particle {what} (one per position)"),
+                expected: n,
+                got,
+            });
         }
         if n == 0 {
-            return Err(Error::InvalidArgument("no particles".into()));
+            return Err(Error::Empty("particles".into()));
         }
         for k in 0..n {
             finite_named(x0[k], || format!("position of particle {k}"))?;
@@ -89,7 +94,7 @@ impl Particles {
     /// bar of thesis §5.1.1).
     pub fn uniform(a: f64, b: f64, count: usize, density: f64) -> Result<Self> {
         if count == 0 {
-            return Err(Error::InvalidArgument("no particles".into()));
+            return Err(Error::Empty("particles".into()));
         }
         let dx = (b - a) / count as f64;
         let x0: Vec<f64> = (0..count).map(|p| a + (p as f64 + 0.5) * dx).collect();

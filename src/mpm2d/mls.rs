@@ -65,9 +65,10 @@ impl MlsShapes {
     /// Buffers for `particles` particles on a grid of `cells`² cells.
     pub fn new(support_scale: f64, cells: usize, particles: usize) -> Result<Self> {
         if !(support_scale.is_finite() && support_scale > 0.0) {
-            return Err(Error::InvalidArgument(format!(
-                "the MLS support scale must be positive, got {support_scale}"
-            )));
+            return Err(Error::NotPositive {
+                what: "the MLS support scale".into(),
+                value: support_scale,
+            });
         }
         if particles > u32::MAX as usize {
             return Err(Error::InvalidArgument(format!(

@@ -50,17 +50,22 @@ impl Particles2d {
     ) -> Result<Self> {
         let n = positions.len();
         if n == 0 {
-            return Err(Error::InvalidArgument("no particles".into()));
+            return Err(Error::Empty("particles".into()));
         }
-        if volume.len() != n || velocity.len() != n {
-            return Err(Error::InvalidArgument(
-                "particle arrays differ in length".into(),
-            ));
+        for (what, got) in [("volumes", volume.len()), ("velocities", velocity.len())] {
+            if got != n {
+                return Err(Error::LengthMismatch {
+                    what: format!("particle {what} (one per position)"),
+                    expected: n,
+                    got,
+                });
+            }
         }
         if !(density.is_finite() && density > 0.0) {
-            return Err(Error::InvalidArgument(format!(
-                "the density must be positive and finite, got {density}"
-            )));
+            return Err(Error::NotPositive {
+                what: "the density".into(),
+                value: density,
+            });
         }
         for k in 0..n {
             for c in 0..2 {
@@ -68,10 +73,10 @@ impl Particles2d {
                 finite_named(velocity[k][c], || format!("velocity of particle {k}"))?;
             }
             if !(volume[k].is_finite() && volume[k] > 0.0) {
-                return Err(Error::InvalidArgument(format!(
-                    "particle {k} needs a positive volume, got {}",
-                    volume[k]
-                )));
+                return Err(Error::NotPositive {
+                    what: format!("the volume of particle {k}"),
+                    value: volume[k],
+                });
             }
         }
         Ok(Self {

@@ -237,11 +237,11 @@ impl Work {
 /// points, strictly increasing abscissae, and gaps whose cube is finite.
 fn check_data(x: &[f64], y: &[f64]) -> Result<()> {
     if x.len() != y.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} abscissae but {} values",
-            x.len(),
-            y.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "values (one per abscissa)".into(),
+            expected: x.len(),
+            got: y.len(),
+        });
     }
     if x.len() < 2 {
         return Err(Error::InvalidArgument(

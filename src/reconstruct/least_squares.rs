@@ -56,11 +56,11 @@ where
 /// (`Error::Singular`, with κ in the message).
 pub fn fit(rows: &[Vec<f64>], values: &[f64], nb: usize) -> Result<LeastSquaresFit> {
     if rows.len() != values.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} basis rows but {} data values",
-            rows.len(),
-            values.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "data values (one per basis row)".into(),
+            expected: rows.len(),
+            got: values.len(),
+        });
     }
     for (k, v) in values.iter().enumerate() {
         finite_named(*v, || format!("data value {k}"))?;

@@ -142,11 +142,11 @@ fn check_cell_size(l: f64) -> Result<()> {
 /// u_h(x) = Σ_p φ_p(x) u_p in 1D (MLS paper Eq. 13).
 pub fn reconstruct_1d(x: f64, points: &[f64], values: &[f64], cell_size: f64) -> Result<f64> {
     if points.len() != values.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} points but {} values",
-            points.len(),
-            values.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "values (one per point)".into(),
+            expected: points.len(),
+            got: values.len(),
+        });
     }
     let phi = shape_functions_1d(x, points, cell_size)?;
     Ok(phi.iter().zip(values).map(|(p, u)| p * u).sum())

@@ -96,9 +96,10 @@ impl TaylorBasis {
         finite("cell end", a)?;
         finite("cell end", b)?;
         if b <= a {
-            return Err(Error::InvalidArgument(format!(
-                "cell [{a}, {b}] has zero or negative length"
-            )));
+            return Err(Error::NotPositive {
+                what: format!("the length of cell [{a}, {b}]"),
+                value: b - a,
+            });
         }
         if !(b - a).is_finite() {
             return Err(Error::InvalidArgument(format!(
@@ -272,11 +273,11 @@ pub fn fit_cell(
     max_condition: f64,
 ) -> Result<CellFit> {
     if points.len() != values.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} basis rows but {} data values",
-            points.len(),
-            values.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "data values (one per point)".into(),
+            expected: points.len(),
+            got: values.len(),
+        });
     }
     // Conservative TLS fixes α_1 = c/|Ω_e| (Eq. 4.35) and fits ψ_2 … ψ_{n_b}
     // to f − α_1; unconstrained TLS fits ψ_1 … ψ_{n_b} to f (Eq. 4.36).
@@ -435,11 +436,11 @@ pub fn reconstruct(
     options: TlsOptions,
 ) -> Result<TlsReconstruction> {
     if points.len() != values.len() {
-        return Err(Error::InvalidArgument(format!(
-            "{} points but {} values",
-            points.len(),
-            values.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "values (one per point)".into(),
+            expected: points.len(),
+            got: values.len(),
+        });
     }
     if options.order == 0 || options.order > MAX_ORDER {
         return Err(Error::InvalidDegree(format!(
@@ -449,11 +450,11 @@ pub fn reconstruct(
     }
     if let Some(c) = integrals {
         if c.len() != cells.len() {
-            return Err(Error::InvalidArgument(format!(
-                "{} integrals for {} cells",
-                c.len(),
-                cells.len()
-            )));
+            return Err(Error::LengthMismatch {
+                what: "integrals (one per cell)".into(),
+                expected: cells.len(),
+                got: c.len(),
+            });
         }
     }
     for w in cells.windows(2) {
@@ -466,7 +467,7 @@ pub fn reconstruct(
     }
     let (lo, hi) = match (cells.first(), cells.last()) {
         (Some(f), Some(l)) => (f.0, l.1),
-        _ => return Err(Error::InvalidArgument("no cells".into())),
+        _ => return Err(Error::Empty("cells".into())),
     };
     for (k, (&x, &v)) in points.iter().zip(values).enumerate() {
         finite_named(x, || format!("data point {k}"))?;

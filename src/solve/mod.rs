@@ -77,10 +77,11 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Checks a right-hand side against an operator size.
 pub(crate) fn check_rhs(n: usize, b: &[f64], tol: f64) -> Result<()> {
     if b.len() != n {
-        return Err(Error::InvalidArgument(format!(
-            "right-hand side has length {} but the system has size {n}",
-            b.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "right-hand side (one entry per unknown)".into(),
+            expected: n,
+            got: b.len(),
+        });
     }
     for (i, v) in b.iter().enumerate() {
         crate::error::finite_named(*v, || format!("right-hand side entry {i}"))?;

@@ -81,10 +81,11 @@ pub fn richardson_with(
     let n = consistent.rows();
     check_rhs(n, rhs, tol)?;
     if lumped.len() != n {
-        return Err(Error::InvalidArgument(format!(
-            "lumped diagonal has length {} but the system has size {n}",
-            lumped.len()
-        )));
+        return Err(Error::LengthMismatch {
+            what: "lumped diagonal (one entry per unknown)".into(),
+            expected: n,
+            got: lumped.len(),
+        });
     }
     if let Some((i, m)) = lumped
         .iter()
