@@ -105,12 +105,7 @@ impl Ulfem {
 
     /// One Euler–Cromer step.
     pub fn step(&mut self, dt: f64) -> Result<()> {
-        if dt.is_nan() || dt <= 0.0 {
-            return Err(Error::NotPositive {
-                what: "the time step".into(),
-                value: dt,
-            });
-        }
+        crate::mpm::musl::check_time_step(dt)?;
         let n = self.x.len();
         let mut f = vec![0.0; n];
         for (e, s) in self.stress.iter().enumerate() {
