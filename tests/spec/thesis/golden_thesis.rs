@@ -98,7 +98,7 @@ fn thesis_table_7_1_reproduces_to_every_printed_digit_under_the_authors_conventi
 /// orders reproduce to every printed digit; from the unrounded errors the
 /// finest misses its last (1.60676 against 1.6067). Table 7.2 keeps all
 /// four either way; Table 5.2's finest misses either way (1.9992 against
-/// 1.9991, a hypothesis in docs/reproduction-notes.md).
+/// 1.9991; see the next test for why).
 #[test]
 fn thesis_orders_are_taken_from_the_rms_values_as_printed() {
     let run = |id: &str| {
@@ -138,4 +138,42 @@ fn rms_values_round_to_significant_digits_as_printed() {
     assert_eq!(round_to_significant_digits(1.999_199, 5), 1.9992);
     assert_eq!(round_to_significant_digits(-2.71849, 3), -2.72);
     assert_eq!(round_to_significant_digits(123.0, 0), 100.0);
+}
+
+/// Issue #25: why thesis Table 5.2's finest order cannot be reproduced to
+/// its digits. The printed 1.9991 summarises Table 5.1, yet the printed
+/// values of Table 5.1 give log2(e(32)/e(64)) = 1.9992 or 1.9993 in every
+/// column, and hompm reproduces those values to every printed digit. An
+/// order that agrees with the thesis' own Table 5.1 cannot print 1.9991.
+#[test]
+fn thesis_5_2_finest_order_contradicts_the_printed_table_5_1() {
+    let published = |id: &str| crate::common::published(id);
+    let t51 = published("thesis-5.1");
+    let at = |row: &str, column: &str| {
+        let r = t51.row_labels.iter().position(|l| l == row).unwrap();
+        let c = t51.col_labels.iter().position(|l| l == column).unwrap();
+        t51.values[r][c].unwrap()
+    };
+    let t52 = published("thesis-5.2");
+    let printed = t52.values[t52
+        .row_labels
+        .iter()
+        .position(|l| l == "64 elements")
+        .unwrap()][0]
+        .unwrap();
+    for column in ["4 PPC", "6 PPC", "8 PPC"] {
+        let order = (at("32 elements", column) / at("64 elements", column)).log2();
+        let rounded = format!("{order:.4}");
+        assert_ne!(rounded, format!("{printed:.4}"), "{column}: {order}");
+        assert!(
+            rounded == "1.9992" || rounded == "1.9993",
+            "{column}: {order}"
+        );
+    }
+    let report = tables::run(&tables::find("thesis-5.1").unwrap(), &RunOptions::default()).unwrap();
+    let (digits, applicable) = report.digit_counts();
+    assert_eq!(
+        digits, applicable,
+        "thesis-5.1 reproduces to every printed digit"
+    );
 }
