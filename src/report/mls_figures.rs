@@ -9,10 +9,10 @@
 //! Items: [`mls_charts`].
 
 use super::charts::{self, Chart, Series, Style};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::scenes::aligned_vibration::{self, AlignedErrors, AlignedMethod};
 use crate::studies::mls_paper::{self, AlignedStudy, RunOutcome};
-use crate::tables::TableReport;
+use crate::tables::{Study, TableReport};
 use std::path::Path;
 
 /// The run of the aligned vibration as (x, y) points, if it reached T.
@@ -32,15 +32,13 @@ fn aligned_points(
 /// error against time on the finest grid, error against wall time, and
 /// (with `--full`) the PPC study. Nothing if the table was not run.
 pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
-    let Some(study) = reports
+    let Some(Study::MlsAligned(study)) = reports
         .iter()
         .find(|r| r.id == "mls-aligned")
-        .and_then(|r| r.study.clone())
+        .and_then(|r| r.study.as_ref())
     else {
         return Ok(());
     };
-    let study: AlignedStudy =
-        serde_json::from_value(study).map_err(|e| Error::Io(format!("mls-aligned study: {e}")))?;
     let mut methods = mls_paper::METHODS.to_vec();
     methods.push(AlignedMethod::TotalLagrangian { degree: 2 });
     methods.push(mls_paper::TLS_METHOD);
@@ -62,11 +60,11 @@ pub fn mls_charts(dir: &Path, reports: &[TableReport]) -> Result<()> {
             )
         })
         .collect();
-    mls_convergence_charts(dir, &study, &methods, &runs, &stopped)?;
-    mls_history_chart(dir, &study, &methods, &runs)?;
+    mls_convergence_charts(dir, study, &methods, &runs, &stopped)?;
+    mls_history_chart(dir, study, &methods, &runs)?;
     mls_work_precision_chart(dir, &methods, &runs)?;
     mls_conservation_chart(dir, &runs)?;
-    mls_ppc_chart(dir, &study)
+    mls_ppc_chart(dir, study)
 }
 
 /// MLS paper Figs. 2–4: error at T against h for each quantity.

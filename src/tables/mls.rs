@@ -10,7 +10,7 @@
 //!
 //! Items: [`aligned`], [`claims`].
 
-use super::{Computed, LabelledRow, RunOptions, TableSpec};
+use super::{Computed, LabelledRow, RunOptions, Study, TableSpec};
 use crate::error::Result;
 use crate::scenes::aligned_vibration::{parameters, AlignedErrors, AlignedMethod};
 use crate::studies::mls_paper::{
@@ -44,7 +44,7 @@ fn compute_aligned(o: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows,
         notes: notes(&study)?,
-        study: serde_json::to_value(&study).ok(),
+        study: Some(Study::MlsAligned(Box::new(study))),
     })
 }
 

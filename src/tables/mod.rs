@@ -21,7 +21,7 @@
 //!
 //! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
 //! [`ToleranceRules`], [`Tolerance`], [`Status`], [`Entry`],
-//! [`RunOptions`], [`LabelledRow`], [`Computed`], [`TableSpec`], [`TableReport`],
+//! [`RunOptions`], [`LabelledRow`], [`Computed`], [`Study`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
 //! [`effective_tolerance`], [`significant_digits`], [`equal_to_digits`],
 //! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`thesis`],
@@ -39,6 +39,8 @@ pub use published::{digits_apply, effective_tolerance, equal_to_digits, signific
 pub use published::{CellTolerance, Source, Status, Tolerance, ToleranceKind, ToleranceRules};
 
 use crate::error::{Error, Result};
+use crate::studies::mls_paper::AlignedStudy;
+use crate::studies::tls_paper::SubpointStudy;
 use serde::Serialize;
 
 /// Options of a table computation.
@@ -63,8 +65,41 @@ pub struct Computed {
     /// Free-text findings shown under the table (spreads, alternatives, …).
     pub notes: Vec<String>,
     /// The study behind the table, for the report's charts (only tables
-    /// whose charts need more than the table: `mls-aligned`).
-    pub study: Option<serde_json::Value>,
+    /// whose charts need more than the table: `mls-aligned`, `tls-8`).
+    pub study: Option<Study>,
+}
+
+/// The study behind a table whose charts or report need more than its
+/// rows, typed, so that the charts read it without parsing JSON.
+/// report.json carries it as before: as a JSON object with sorted keys.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Study {
+    /// `mls-aligned`: the MLS paper's study of the aligned vibration.
+    MlsAligned(Box<AlignedStudy>),
+    /// `tls-8`: the subpoint study, with midpoint and end placements.
+    Subpoints {
+        /// Subpoints at the midpoints of equal parts of the particle.
+        midpoints: SubpointStudy,
+        /// Subpoints including both ends of the particle.
+        ends: SubpointStudy,
+    },
+}
+
+impl Serialize for Study {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error as _;
+        let json = match self {
+            Study::MlsAligned(study) => serde_json::to_value(study),
+            Study::Subpoints { midpoints, ends } => serde_json::to_value(midpoints).and_then(|m| {
+                Ok(serde_json::json!({ "midpoints": m, "ends": serde_json::to_value(ends)? }))
+            }),
+        }
+        .map_err(S::Error::custom)?;
+        json.serialize(serializer)
+    }
 }
 
 impl Computed {
@@ -133,9 +168,10 @@ pub struct TableReport {
     pub tolerance: Vec<Vec<Tolerance>>,
     /// Findings.
     pub notes: Vec<String>,
-    /// The study behind the table, when its charts need it (`mls-aligned`).
+    /// The study behind the table, when its charts need it (`mls-aligned`,
+    /// `tls-8`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub study: Option<serde_json::Value>,
+    pub study: Option<Study>,
 }
 
 impl TableReport {

@@ -18,7 +18,7 @@
 //!
 //! Items: [`tables`].
 
-use super::{Computed, LabelledRow, RunOptions, TableSpec};
+use super::{Computed, LabelledRow, RunOptions, Study, TableSpec};
 use crate::error::Result;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::Mapping;
@@ -248,7 +248,7 @@ fn tls_8() -> TableSpec {
             Ok(Computed {
                 rows: subpoint_rows(&midpoints),
                 notes,
-                study: Some(serde_json::json!({ "midpoints": midpoints, "ends": ends })),
+                study: Some(Study::Subpoints { midpoints, ends }),
             })
         },
     }
