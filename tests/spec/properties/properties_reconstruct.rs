@@ -803,3 +803,19 @@ fn antiderivative_cell_averages_equal_the_exact_one_up_to_a_rounding_that_grows_
         );
     }
 }
+
+/// The run settings print the TLS density fit's cell average only when it
+/// is not the exact one, so that every default run prints as before the
+/// option existed (docs/conventions.md, "The TLS author's cell average").
+#[test]
+fn run_settings_print_the_cell_average_only_when_it_is_not_exact() {
+    use hompm::mpm::mapping::{Mapping, MassMatrix};
+    let mut settings = crate::common::free_settings(Mapping::Tls, MassMatrix::Lumped, 1.0);
+    let printed = |s: &hompm::mpm::musl::Settings| serde_json::to_value(s).unwrap();
+    assert!(printed(&settings).get("tls_density_average").is_none());
+    settings.tls_density_average = CellAverage::AntiderivativeDifference;
+    assert_eq!(
+        printed(&settings)["tls_density_average"],
+        "antiderivative-difference"
+    );
+}
