@@ -155,14 +155,7 @@ fn bad_runs_are_typed_errors() {
     ));
     let ok = Particles::uniform(0.0, 1.0, 8, 1.0).unwrap();
     let mut sim = Simulation::new(grid(), ok, settings.clone()).unwrap();
-    assert!(matches!(
-        sim.step(0.0),
-        Err(Error::NotPositive { ref what, value }) if what == "the time step" && value == 0.0
-    ));
-    assert!(matches!(
-        sim.step(f64::NAN),
-        Err(Error::NotPositive { ref what, value }) if what == "the time step" && value.is_nan()
-    ));
+    crate::common::assert_refuses_bad_time_steps(|dt| sim.step(dt));
     assert!(Particles::new(vec![0.5], vec![1.0], vec![1.0], vec![f64::NAN], vec![0.0]).is_err());
     assert!(Particles::new(vec![0.5], vec![-1.0], vec![1.0], vec![0.0], vec![0.0]).is_err());
     assert!(Simulation::new(
