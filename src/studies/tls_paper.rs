@@ -7,7 +7,7 @@
 //! mapping, never picked by position.
 //!
 //! Items: [`mass_for`], [`TLS_METHODS`], [`SMALL_BAR_DT`], [`SMALL_BAR_STEPS`], [`conservation_errors`],
-//! [`conservation_errors_for`], [`BarRun`], [`tls_author_average_errors`],
+//! [`conservation_errors_for`], [`BarRun`], [`by_method`],
 //! [`ConservationByMethod`], [`conservation_by_mapping`],
 //! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
 //! [`compaction`], [`compactions`], [`compaction_uncached`], [`compaction_with_average`],
@@ -147,11 +147,10 @@ impl BarRun<'_> {
     }
 }
 
-/// (Error_M, Error_P) of each of [`TLS_METHODS`] with the TLS mapping and
-/// the TLS author's cell average on the density fit, by `run(method)`, in
-/// parallel: the experiment behind the TLS paper's printed TLS mass errors
-/// (docs/conventions.md, "The TLS author's cell average").
-pub fn tls_author_average_errors(
+/// `run(method)` for each of [`TLS_METHODS`], in parallel, labelled: the
+/// columns of one row of TLS paper Tables 3, 5 and 7 (and of the TLS
+/// author's cell-average experiment, docs/conventions.md).
+pub fn by_method(
     run: impl Fn(Method) -> Result<(f64, f64)> + Sync,
 ) -> Result<ConservationByMethod> {
     let errors: Vec<(f64, f64)> = TLS_METHODS
@@ -171,13 +170,7 @@ pub fn conservation_by_mapping(
 ) -> Result<Vec<(Mapping, ConservationByMethod)>> {
     [Mapping::CubicSpline, Mapping::Tls]
         .into_iter()
-        .map(|mapping| {
-            let errors: Vec<(f64, f64)> = TLS_METHODS
-                .par_iter()
-                .map(|&m| run(m, mapping))
-                .collect::<Result<_>>()?;
-            Ok((mapping, TLS_METHODS.into_iter().zip(errors).collect()))
-        })
+        .map(|mapping| Ok((mapping, by_method(|m| run(m, mapping))?)))
         .collect()
 }
 

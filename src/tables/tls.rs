@@ -27,9 +27,9 @@ use crate::studies::tls_example::{
     example_reconstructions, relative_integral_error, rms_error, spreads, Spread, EXAMPLE_SEED,
 };
 use crate::studies::tls_paper::{
-    as_paper_ran, compaction, compaction_with_average, compactions, conservation_by_mapping,
-    conservation_errors, fig6_errors, fig6_variants, fitted_order, stress_errors_against_ulfem,
-    subpoint_study, tls_author_average_errors, BarRun, ConservationByMethod, SubpointStudy,
+    as_paper_ran, by_method, compaction, compaction_with_average, compactions,
+    conservation_by_mapping, conservation_errors, fig6_errors, fig6_variants, fitted_order,
+    stress_errors_against_ulfem, subpoint_study, BarRun, ConservationByMethod, SubpointStudy,
     TABLE_8_SUBPOINTS, TLS_METHODS,
 };
 use crate::studies::BarErrors;
@@ -436,7 +436,7 @@ fn tls_author_average_note(
     ];
     let mut parts = Vec::new();
     for (average, name) in variants {
-        let cells: Vec<String> = tls_author_average_errors(|m| run(m, average))?
+        let cells: Vec<String> = by_method(|m| run(m, average))?
             .into_iter()
             .map(|(m, (e_m, e_p))| {
                 format!("{} Error_M {e_m:.4e}, Error_P {e_p:.4e}", paper_name(m))

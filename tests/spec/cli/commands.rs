@@ -214,3 +214,87 @@ fn run_json_has_no_null_standing_for_infinity() {
         assert_eq!(d["min_mass_diagonal_ratio"].is_number(), steps != "0");
     }
 }
+
+/// `hompm reconstruct --taylor-average`: on a cell far from the origin the
+/// TLS author's antiderivative forms round differently from the exact
+/// average (docs/conventions.md, "The TLS author's cell average"), and each
+/// prints what the library computes with that average; a value that is not
+/// one of the three is one line on stderr and exit 2.
+#[test]
+fn reconstruct_prints_the_tls_fit_under_each_taylor_average() {
+    use hompm::reconstruct::taylor::{reconstruct, CellAverage, TlsOptions};
+    let (points, values) = ([999.1, 1000.0, 1000.5], [1.2, 2.0, 2.5]);
+    let at = [1000.0 - 0.5773502691896257, 1000.0 + 0.5773502691896257];
+    let join = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let printed = |average: &str| {
+        let (code, out, err) = hompm(&[
+            "reconstruct",
+            "--method",
+            "tls-conservative",
+            "--cells=999,1001",
+            &format!("--points={}", join(&points)),
+            &format!("--values={}", join(&values)),
+            "--integrals=4",
+            &format!("--at={}", join(&at)),
+            "--taylor-average",
+            average,
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let got: Vec<f64> = v["values"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        got
+    };
+    let library = |average| {
+        let options = TlsOptions {
+            average,
+            ..TlsOptions::default()
+        };
+        let r = reconstruct(&[(999.0, 1001.0)], &points, &values, Some(&[4.0]), options).unwrap();
+        at.iter()
+            .map(|&x| r.value_at(x).unwrap())
+            .collect::<Vec<f64>>()
+    };
+    let exact = printed("exact");
+    for (name, average) in [
+        ("exact", CellAverage::Exact),
+        (
+            "antiderivative-difference",
+            CellAverage::AntiderivativeDifference,
+        ),
+        (
+            "antiderivative-six-terms",
+            CellAverage::AntiderivativeSixTerms,
+        ),
+    ] {
+        let got = printed(name);
+        assert_eq!(got, library(average), "{name}");
+        if average != CellAverage::Exact {
+            assert_ne!(got, exact, "{name} rounds like the exact average");
+        }
+    }
+    let (code, out, err) = hompm(&[
+        "reconstruct",
+        "--method",
+        "tls-conservative",
+        "--cells=0,1",
+        "--points=0.2,0.5,0.7",
+        "--values=1,2,3",
+        "--integrals=2",
+        "--at=0.5",
+        "--taylor-average",
+        "rounded",
+    ]);
+    assert_eq!((code, out.as_str()), (2, ""));
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}

@@ -30,7 +30,7 @@ proptest! {
 
     /// Book Eq. (4.32): ∫ψ_1 = |Ω_e| and ∫ψ_i = 0 for i > 1, n_b ≤ 6.
     ///
-    /// Map rows: book-4.30, book-4.31, book-4.32, tls-§5.2-1, tls-12 — the Taylor basis and its integral property, printed in two seeds.
+    /// Map rows: book-4.31, book-4.32, tls-§5.2-1, tls-12 — the Taylor basis and its integral property, printed in two seeds.
     #[test]
     fn taylor_basis_integral_property(a in -5.0f64..5.0, w in 0.01f64..5.0, nb in 1usize..=6) {
         let basis = TaylorBasis::new(a, a + w, nb).unwrap();
