@@ -44,9 +44,9 @@ fn case_of(case: &str) -> (AlignedMethod, usize) {
     let (method, cells) = case.split_once('/').expect("method/cells");
     let method = match method {
         "mpm" => AlignedMethod::Mpm,
-        "bsmpm2" => AlignedMethod::Bsmpm { degree: 2 },
-        "bsmpm2-mls" => AlignedMethod::BsmpmMls { degree: 2 },
-        _ => AlignedMethod::BsmpmTls { degree: 2 },
+        "bsmpm2" => AlignedMethod::bsmpm(2),
+        "bsmpm2-mls" => AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
+        _ => AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
     };
     (method, cells.parse().expect("cells"))
 }

@@ -8,6 +8,7 @@
 use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use hompm::mpm::musl::Simulation;
+use hompm::mpm2d::Mapping2d;
 use hompm::scenes::{vibrating_bar, Discretisation};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -125,8 +126,8 @@ fn a_steady_2d_step_allocates_nothing() {
     let scene = parameters("mls-paper-e1e7").unwrap();
     for method in [
         AlignedMethod::Mpm,
-        AlignedMethod::Bsmpm { degree: 2 },
-        AlignedMethod::BsmpmMls { degree: 2 },
+        AlignedMethod::bsmpm(2),
+        AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
         AlignedMethod::TotalLagrangian { degree: 2 },
     ] {
         let mut sim = scene.simulation(method, 4, 3, 1.0).unwrap();

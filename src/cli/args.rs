@@ -9,58 +9,134 @@
 //! [`ReconstructionArg`], [`SceneArg`], [`count`], [`name`].
 
 use crate::error::{Error, Result};
-use crate::mpm::grid::{Method, NodeIntegrals};
+use crate::mpm::grid::{Method, NodeIntegrals, METHOD_FAMILIES};
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::mpm2d::step::Mapping2d;
+use crate::scenes::aligned_vibration::AlignedMethod;
 use clap::ValueEnum;
 
-/// The MPM variant of `hompm run --method`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum MethodArg {
-    /// Linear Lagrange (P1) MPM.
-    Mpm,
-    /// Quadratic Lagrange (P2) MPM: negative masses (thesis §5.2).
-    MpmP2,
-    /// Dual-domain MPM (TLS paper §3.3).
-    Ddmpm,
-    /// B-spline MPM of degree --degree (book §4.3).
-    Bsmpm,
-    /// B-spline MPM with MLS to the Gauss points (MLS paper; aligned-vibration only).
-    BsmpmMls,
-    /// B-spline MPM with conservative Taylor least squares to the Gauss
-    /// points (TLS paper §5 in 2D; aligned-vibration only).
-    BsmpmTls,
-    /// Total-Lagrangian FE with B-splines, no grid crossing (hompm's
-    /// reference; aligned-vibration only).
-    TlFe,
+/// The MPM variant of `hompm run --method`, one of the registered names:
+/// the 1D method families ([`METHOD_FAMILIES`]), `bsmpm-<mapping>` for
+/// every registered 2D mapping but the direct one ([`Mapping2d::ALL`]), and
+/// `tl-fe`. A new basis or mapping reaches the command line through its
+/// registration; nothing here names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MethodArg {
+    name: &'static str,
+}
+
+/// The 2D-only name of the total-Lagrangian reference.
+const TL_FE: &str = "tl-fe";
+
+/// Every choice of `--method` with its help line, built once from the
+/// registrations.
+fn method_choices() -> &'static (Vec<MethodArg>, Vec<&'static str>) {
+    static CHOICES: std::sync::OnceLock<(Vec<MethodArg>, Vec<&'static str>)> =
+        std::sync::OnceLock::new();
+    CHOICES.get_or_init(|| {
+        let mut choices: Vec<(&'static str, &'static str)> = METHOD_FAMILIES
+            .iter()
+            .map(|f| (f.name, f.summary))
+            .collect();
+        for mapping in Mapping2d::ALL {
+            if mapping != Mapping2d::Direct {
+                let name: &'static str = format!("bsmpm-{}", mapping.name()).leak();
+                choices.push((name, mapping.info().summary));
+            }
+        }
+        choices.push((
+            TL_FE,
+            "Total-Lagrangian FE with B-splines, no grid crossing (hompm's reference; aligned-vibration only)",
+        ));
+        choices
+            .into_iter()
+            .map(|(name, summary)| (MethodArg { name }, summary))
+            .unzip()
+    })
 }
 
 impl MethodArg {
-    /// The library's [`Method`]; `degree` is used by `bsmpm` only and must
-    /// be at least 1, `node_integrals` by `ddmpm` only.
+    /// Linear Lagrange MPM, the default.
+    pub const MPM: MethodArg = MethodArg { name: "mpm" };
+
+    /// The choice of a registered name.
+    pub fn from_name(name: &str) -> Result<MethodArg> {
+        let (choices, _) = method_choices();
+        choices
+            .iter()
+            .copied()
+            .find(|c| c.name == name)
+            .ok_or_else(|| Error::InvalidArgument(format!("unknown method {name:?}")))
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        self.name
+    }
+
+    /// The library's 1D [`Method`]: the family of this name with `degree`
+    /// and `node_integrals` (which only a method with node integrals takes).
     pub fn method(self, degree: usize, node_integrals: NodeIntegrals) -> Result<Method> {
-        if self != MethodArg::Ddmpm && node_integrals != NodeIntegrals::Exact {
+        let family = METHOD_FAMILIES.iter().find(|f| f.name == self.name);
+        let method = match family {
+            Some(f) => Some((f.method)(degree, node_integrals)?),
+            None => None,
+        };
+        if node_integrals != NodeIntegrals::Exact
+            && method.and_then(|m| m.node_integrals()).is_none()
+        {
             return Err(Error::InvalidArgument(format!(
                 "--node-integrals applies to --method ddmpm only, not {}",
-                name(&self)
+                self.name
             )));
         }
-        Ok(match self {
-            MethodArg::Mpm => Method::Mpm,
-            MethodArg::MpmP2 => Method::MpmP2,
-            MethodArg::Ddmpm => Method::Ddmpm { node_integrals },
-            MethodArg::Bsmpm if degree >= 1 => Method::Bsmpm { degree },
-            MethodArg::Bsmpm => {
-                return Err(Error::InvalidDegree(
-                    "bsmpm needs --degree ≥ 1, got 0".into(),
-                ))
-            }
-            MethodArg::BsmpmMls | MethodArg::BsmpmTls | MethodArg::TlFe => {
-                return Err(Error::InvalidArgument(format!(
-                    "--method {} runs only in the 2D scene aligned-vibration",
-                    name(&self)
-                )))
-            }
+        method.ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "--method {} runs only in the 2D scene aligned-vibration",
+                self.name
+            ))
         })
+    }
+
+    /// The 2D method of the aligned vibration: `mpm`, `bsmpm` (direct
+    /// mapping), `bsmpm-<mapping>` or `tl-fe`, of `degree` ≥ 1.
+    pub fn aligned(self, degree: usize) -> Result<AlignedMethod> {
+        if degree == 0 && self != MethodArg::MPM {
+            return Err(Error::InvalidDegree(format!(
+                "{} needs --degree ≥ 1, got 0",
+                self.name
+            )));
+        }
+        let tag = if self.name == TL_FE {
+            "total-lagrangian"
+        } else {
+            self.name
+        };
+        AlignedMethod::from_tag(tag, degree).ok_or_else(|| {
+            let names: Vec<&str> = method_choices()
+                .0
+                .iter()
+                .map(|c| c.name)
+                .filter(|n| *n == TL_FE || AlignedMethod::from_tag(n, 1).is_some())
+                .collect();
+            Error::InvalidArgument(format!(
+                "aligned-vibration runs {}, not {}",
+                names.join(", "),
+                self.name
+            ))
+        })
+    }
+}
+
+impl ValueEnum for MethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &method_choices().0
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        let (choices, summaries) = method_choices();
+        let i = choices.iter().position(|c| c == self)?;
+        Some(clap::builder::PossibleValue::new(self.name).help(summaries[i]))
     }
 }
 

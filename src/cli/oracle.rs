@@ -134,7 +134,7 @@ fn exact_fields(a: ExactArgs, limits: &Limits) -> Result<Output> {
     // The method options do not matter for the exact solution; a 2D scene
     // builds its layout with any method.
     setup.method = if scene == SceneArg::AlignedVibration {
-        super::args::MethodArg::Mpm
+        super::args::MethodArg::MPM
     } else {
         setup.method
     };

@@ -18,7 +18,7 @@ use super::setup_args::SetupArgs;
 use super::{json, Output};
 use crate::error::{Error, Result};
 use crate::mpm::diagnostics::rms_error;
-use crate::mpm::grid::{Method, NodeIntegrals};
+use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::monitor::Warning;
 use crate::mpm::musl::{NoObserver, Simulation};
 use crate::oracle::exact::{exact_1d, formulas_1d, reference_kind};
@@ -125,10 +125,7 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         params: params_json(&s.scene)?,
         overridden: a.setup.overrides().names(),
         method: name(&a.setup.method),
-        node_integrals: match d.method {
-            Method::Ddmpm { node_integrals } => Some(node_integrals),
-            _ => None,
-        },
+        node_integrals: d.method.node_integrals(),
         mapping: name(&a.setup.mapping),
         mass: name(&a.setup.mass),
         solver: to_json(&d.mass)?,

@@ -81,7 +81,7 @@ pub struct SetupArgs {
     #[arg(long, value_enum)]
     pub constitutive: Option<ConstitutiveArg>,
     /// The MPM variant.
-    #[arg(long, value_enum, default_value_t = MethodArg::Mpm)]
+    #[arg(long, value_enum, default_value_t = MethodArg::MPM)]
     pub method: MethodArg,
     /// DDMPM's node integrals V_j and ∫φ_j∇φ_i: exact, particles (particle
     /// quadrature) or subpoints:N (N subpoints per particle).
@@ -277,36 +277,12 @@ impl SetupArgs {
 
     /// The 2D method of --method and --degree.
     fn aligned_method(&self) -> Result<AlignedMethod> {
-        if self.degree == 0 && self.method != MethodArg::Mpm {
-            return Err(Error::InvalidDegree(format!(
-                "{} needs --degree ≥ 1, got 0",
-                name(&self.method)
-            )));
-        }
         if self.mass != MassArg::Lumped || self.mapping != MappingArg::Direct {
             return Err(Error::InvalidArgument(
                 "aligned-vibration runs with the lumped mass; its mapping follows --method (bsmpm-mls maps by MLS)".into(),
             ));
         }
-        match self.method {
-            MethodArg::Mpm => Ok(AlignedMethod::Mpm),
-            MethodArg::Bsmpm => Ok(AlignedMethod::Bsmpm {
-                degree: self.degree,
-            }),
-            MethodArg::BsmpmMls => Ok(AlignedMethod::BsmpmMls {
-                degree: self.degree,
-            }),
-            MethodArg::BsmpmTls => Ok(AlignedMethod::BsmpmTls {
-                degree: self.degree,
-            }),
-            MethodArg::TlFe => Ok(AlignedMethod::TotalLagrangian {
-                degree: self.degree,
-            }),
-            other => Err(Error::InvalidArgument(format!(
-                "aligned-vibration runs mpm, bsmpm, bsmpm-mls, bsmpm-tls or tl-fe, not {}",
-                name(&other)
-            ))),
-        }
+        self.method.aligned(self.degree)
     }
 
     /// Refuses a run whose estimated memory or time exceeds the limits;
@@ -339,11 +315,7 @@ fn per_side(ppc: usize) -> Result<usize> {
 fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> Result<()> {
     let d = &s.discretisation;
     let particles = d.cells as f64 * d.ppc as f64;
-    let width = match a.method {
-        MethodArg::Mpm | MethodArg::Ddmpm => 4.0,
-        MethodArg::MpmP2 => 3.0,
-        _ => a.degree as f64 + 1.0,
-    };
+    let width = d.method.functions_per_particle() as f64;
     let dofs = 2.0 * d.cells as f64 + width;
     let what = || format!("a run of {particles:.0} particles × {} steps", s.steps);
     let bytes = (particles + dofs) * (200.0 + 16.0 * width) + particles * 200.0 + extra;
@@ -369,27 +341,17 @@ fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> R
 /// 500 (MLS) and 250 (TLS) ns per particle-step, doubled for the compressed states and
 /// scaled by (p + 1)²/9 for other degrees.
 fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
-    let degree = match s.method {
-        AlignedMethod::Mpm => 1,
-        AlignedMethod::Bsmpm { degree }
-        | AlignedMethod::BsmpmMls { degree }
-        | AlignedMethod::BsmpmMlsPhase1 { degree }
-        | AlignedMethod::BsmpmTls { degree }
-        | AlignedMethod::TotalLagrangian { degree } => degree,
-    };
+    let degree = s.method.degree();
+    let mapping = s.method.parts().1.info();
     let particles = (s.cells as f64).powi(2) * (s.per_side as f64).powi(2);
     let nodes = (s.cells as f64 + degree as f64).powi(2);
-    let mls = matches!(s.method, AlignedMethod::BsmpmMls { .. });
     let what = || format!("a 2D run of {particles:.0} particles × {} steps", s.steps);
-    let bytes =
-        particles * (650.0 + if mls { 7.0 * 40.0 * 12.0 } else { 0.0 }) + nodes * 100.0 + extra;
+    let bytes = particles * (650.0 + mapping.bytes_per_particle) + nodes * 100.0 + extra;
     limits.check_memory(what, bytes, "particle, grid and MLS storage")?;
     let width2 = (degree as f64 + 1.0).powi(2) / 9.0;
     let ns = match s.method {
         AlignedMethod::Mpm => 60.0,
-        AlignedMethod::BsmpmMls { .. } => 500.0 * width2,
-        AlignedMethod::BsmpmTls { .. } => 250.0 * width2,
-        _ => 110.0 * width2,
+        _ => mapping.ns_per_particle_step * width2,
     };
     limits.check_time(what, 2.0 * ns * 1e-9 * particles * s.steps as f64)
 }

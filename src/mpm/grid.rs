@@ -36,7 +36,8 @@
 //! `Grid`, with their batch evaluation at compile-time widths and the
 //! DDMPM gradient; each basis is one arm in each of its methods.
 //!
-//! Items: [`NodeIntegrals`], [`Method`], [`Shape`], [`Grid`].
+//! Items: [`NodeIntegrals`], [`Method`], [`MethodFamily`], [`METHOD_FAMILIES`], [`Shape`],
+//! [`Grid`].
 
 use crate::basis::{with_width, Basis1d, Stencils};
 use crate::error::{Error, Result};
@@ -135,7 +136,83 @@ impl Method {
             Method::Bsmpm { degree } => format!("BSMPM-p{degree}"),
         }
     }
+
+    /// Basis functions that can be non-zero at a particle: 2 for P1, 3 for
+    /// P2, p+1 for B-splines, and 4 for DDMPM, whose modified gradient
+    /// ∇̄φ_i reaches one node beyond the element on each side (TLS paper
+    /// §3.3).
+    pub fn functions_per_particle(&self) -> usize {
+        match *self {
+            Method::Mpm => 2,
+            Method::MpmP2 => 3,
+            Method::Ddmpm { .. } => 4,
+            Method::Bsmpm { degree } => degree + 1,
+        }
+    }
+
+    /// DDMPM's rule for its node integrals; `None` for the other methods.
+    pub fn node_integrals(&self) -> Option<NodeIntegrals> {
+        match *self {
+            Method::Ddmpm { node_integrals } => Some(node_integrals),
+            _ => None,
+        }
+    }
 }
+
+/// A family of 1D methods as the command line names it (`--method`), with
+/// how `--degree` and `--node-integrals` choose its member.
+#[derive(Debug, Clone, Copy)]
+pub struct MethodFamily {
+    /// The name after `--method`.
+    pub name: &'static str,
+    /// One line for `--help`.
+    pub summary: &'static str,
+    /// The member of `--degree` and `--node-integrals` (the caller refuses
+    /// node integrals for a method without them, [`Method::node_integrals`]).
+    pub method: fn(usize, NodeIntegrals) -> Result<Method>,
+}
+
+/// The registration of the 1D methods on the command line.
+///
+/// ## How to add a 1D basis
+/// 1. Implement [`Basis1d`] (and `evaluate_into` for the batch evaluation)
+///    in a module of the basis layer, declared in its `mod.rs`.
+/// 2. Register it here: a [`Method`] variant, its arms in
+///    [`Method::label`], [`Method::functions_per_particle`] and
+///    [`Grid::new`], and its family in this list.
+///
+/// That is three files (the basis, its `mod.rs` and this one); the command
+/// line, the run estimates, the stability monitor and the report take the
+/// method from here.
+pub const METHOD_FAMILIES: [MethodFamily; 4] = [
+    MethodFamily {
+        name: "mpm",
+        summary: "Linear Lagrange (P1) MPM",
+        method: |_, _| Ok(Method::Mpm),
+    },
+    MethodFamily {
+        name: "mpm-p2",
+        summary: "Quadratic Lagrange (P2) MPM: negative masses (thesis §5.2)",
+        method: |_, _| Ok(Method::MpmP2),
+    },
+    MethodFamily {
+        name: "ddmpm",
+        summary: "Dual-domain MPM (TLS paper §3.3)",
+        method: |_, node_integrals| Ok(Method::Ddmpm { node_integrals }),
+    },
+    MethodFamily {
+        name: "bsmpm",
+        summary: "B-spline MPM of degree --degree (book §4.3)",
+        method: |degree, _| {
+            if degree == 0 {
+                return Err(Error::InvalidDegree(
+                    "bsmpm needs --degree ≥ 1, got 0".into(),
+                ));
+            }
+            Ok(Method::Bsmpm { degree })
+        },
+    },
+];
 
 /// Values and (possibly modified) gradients of the basis at one point, over
 /// the index range `first .. first + values.len()`.
@@ -345,10 +422,7 @@ impl Grid {
     /// the element on each side (TLS paper §3.3; fewer on a grid of fewer
     /// than four DOFs).
     pub fn stencil_width(&self) -> usize {
-        match self.method {
-            Method::Ddmpm { .. } => self.num_dofs().min(4),
-            _ => self.degree() + 1,
-        }
+        self.method.functions_per_particle().min(self.num_dofs())
     }
 
     /// Re-evaluates the DDMPM node integrals V_j and ∫φ_j∇φ_i from the

@@ -19,17 +19,17 @@
 //!    φ_gp in the order of [`storage_order`]) and declare it in
 //!    `mpm2d/mod.rs`.
 //! 2. Register it in src/mpm2d/step.rs: one variant of
-//!    [`super::step::Mapping2d`], its arm in
-//!    [`super::step::Mapping2d::reconstruction`] and its name in
-//!    [`super::step::Mapping2d::name`]. The step maps every mapping but the
-//!    direct one through the registered reconstruction, in both mappings of
-//!    a step unless the mapping is a phase-1-only diagnostic.
+//!    [`super::step::Mapping2d`] (and in [`super::step::Mapping2d::ALL`]),
+//!    its arm in [`super::step::Mapping2d::reconstruction`] and its names
+//!    and cost in [`super::step::Mapping2d::info`]. The step maps every
+//!    mapping but the direct one through the registered reconstruction, in
+//!    both mappings of a step unless the mapping is a phase-1-only
+//!    diagnostic.
 //!
-//! That is three files for the engine (TLS was added so: tls.rs, step.rs,
-//! mod.rs). To offer it as a method of the aligned vibration, its name goes
-//! into the scene's and the command line's method lists (`AlignedMethod`,
-//! `MethodArg` and the setup's mapping of one to the other): three files
-//! more, a closed list that issue #26 would fold into one.
+//! That is three files (TLS was added so: tls.rs, step.rs, mod.rs). The
+//! aligned vibration, its labels and JSON, and the command line's
+//! `--method bsmpm-<name>` follow from the registration
+//! (tests/spec/meta/extensions.rs walks it).
 //!
 //! Items: [`GaussGrid`], [`ShapeLists`], [`ShapeBuffers`], [`GaussReconstruction`],
 //! [`storage_order`].

@@ -36,7 +36,7 @@
 //! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
-//! Items: [`Mapping2d`], [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
+//! Items: [`Mapping2d`], [`MappingInfo`], [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
 //! [`Conservation2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
 //! [`NoObserver2d`].
 //!
@@ -79,7 +79,69 @@ pub enum Mapping2d {
     Tls,
 }
 
+/// What the rest of hompm knows of a mapping: its names and its cost. One
+/// [`Mapping2d::info`] arm per mapping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MappingInfo {
+    /// The name in JSON (serde's) and on the command line, where the
+    /// aligned vibration offers `bsmpm-<name>` (`direct` is plain `bsmpm`).
+    pub name: &'static str,
+    /// What a method label appends: `BSMPM-p2-<label>` (empty for direct).
+    pub label: &'static str,
+    /// One line for `--help`.
+    pub summary: &'static str,
+    /// The divan benchmark's cost of a step at degree 2, in ns per
+    /// particle-step (benches/mpm2d.rs, rounded up): the command line's
+    /// run-time estimate.
+    pub ns_per_particle_step: f64,
+    /// Bytes per particle that the reconstruction keeps besides the
+    /// particles and the grid (the memory estimate).
+    pub bytes_per_particle: f64,
+}
+
 impl Mapping2d {
+    /// Every mapping, in the order the command line lists them.
+    pub const ALL: [Mapping2d; 4] = [
+        Mapping2d::Direct,
+        Mapping2d::Mls,
+        Mapping2d::MlsPhase1,
+        Mapping2d::Tls,
+    ];
+
+    /// The registration of a mapping's names and cost.
+    pub fn info(self) -> MappingInfo {
+        match self {
+            Mapping2d::Direct => MappingInfo {
+                name: "direct",
+                label: "",
+                summary: "B-spline MPM of degree --degree (MLS paper Figs. 2-4)",
+                ns_per_particle_step: 110.0,
+                bytes_per_particle: 0.0,
+            },
+            Mapping2d::Mls => MappingInfo {
+                name: "mls",
+                label: "MLS",
+                summary: "B-spline MPM with MLS to the Gauss points (MLS paper; aligned-vibration only)",
+                ns_per_particle_step: 500.0,
+                bytes_per_particle: 7.0 * 40.0 * 12.0,
+            },
+            Mapping2d::MlsPhase1 => MappingInfo {
+                name: "mls-phase1",
+                label: "MLS-phase-1",
+                summary: "B-spline MPM with MLS in phase 1 only, hompm's diagnostic (aligned-vibration only)",
+                ns_per_particle_step: 500.0,
+                bytes_per_particle: 7.0 * 40.0 * 12.0,
+            },
+            Mapping2d::Tls => MappingInfo {
+                name: "tls",
+                label: "TLS",
+                summary: "B-spline MPM with conservative Taylor least squares to the Gauss points (TLS paper §5 in 2D; aligned-vibration only)",
+                ns_per_particle_step: 250.0,
+                bytes_per_particle: 0.0,
+            },
+        }
+    }
+
     /// The registration of the Gauss-point reconstructions: the
     /// [`GaussReconstruction`] of this mapping for `particles` particles on
     /// `cells`² cells (MLS with support scale `mls_support`), or `None` for
@@ -99,15 +161,15 @@ impl Mapping2d {
         })
     }
 
-    /// The mapping's name on the command line and in JSON: `direct`, `mls`,
-    /// `mls-phase-1`, `tls`.
+    /// The mapping's name in JSON and on the command line:
+    /// [`MappingInfo::name`].
     pub fn name(self) -> &'static str {
-        match self {
-            Mapping2d::Direct => "direct",
-            Mapping2d::Mls => "mls",
-            Mapping2d::MlsPhase1 => "mls-phase-1",
-            Mapping2d::Tls => "tls",
-        }
+        self.info().name
+    }
+
+    /// The mapping of a name, if one is registered under it.
+    pub fn from_name(name: &str) -> Option<Mapping2d> {
+        Mapping2d::ALL.into_iter().find(|m| m.name() == name)
     }
 
     /// Whether the end-of-step velocity (Eqs. 31–33) is mapped through the

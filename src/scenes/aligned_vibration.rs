@@ -81,33 +81,29 @@ pub fn parameters(name: &str) -> Result<AlignedVibration> {
     })
 }
 
-/// The three methods of the MLS paper's Figures 2–4.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+/// The methods of the aligned vibration: the MLS paper's three (Figures
+/// 2–4), B-spline MPM with every other registered [`Mapping2d`], and hompm's
+/// reference without grid crossing.
+///
+/// A new 2D mapping needs nothing here: its registration in
+/// [`Mapping2d::info`] names it, labels it and puts `bsmpm-<name>` on the
+/// command line.
+///
+/// JSON: `"mpm"`, `{"bsmpm": {"degree": p}}` for the direct mapping,
+/// `{"bsmpm-<mapping>": {"degree": p}}` for the others (`bsmpm-mls`,
+/// `bsmpm-mls-phase1`, `bsmpm-tls`), `{"total-lagrangian": {"degree": p}}`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AlignedMethod {
     /// Bilinear MPM, direct mapping.
     Mpm,
-    /// B-spline MPM of a degree, direct mapping.
+    /// B-spline MPM of a degree with a mapping: direct (BSMPM), MLS (the
+    /// MLS paper), its phase-1 diagnostic ([`Mapping2d::MlsPhase1`]) or TLS
+    /// ([`Mapping2d::Tls`]; TLS paper §5.2–5.5 on the cells).
     Bsmpm {
         /// Degree p.
         degree: usize,
-    },
-    /// B-spline MPM with the MLS mapping.
-    BsmpmMls {
-        /// Degree p.
-        degree: usize,
-    },
-    /// hompm's diagnostic: MLS in phase 1 only, the direct mapping for the
-    /// end-of-step velocity ([`Mapping2d::MlsPhase1`]).
-    BsmpmMlsPhase1 {
-        /// Degree p.
-        degree: usize,
-    },
-    /// B-spline MPM with conservative Taylor least squares in place of MLS
-    /// ([`Mapping2d::Tls`]; TLS paper §5.2–5.5 on the cells).
-    BsmpmTls {
-        /// Degree p.
-        degree: usize,
+        /// The mapping between particles and grid.
+        mapping: Mapping2d,
     },
     /// hompm's reference without grid crossing: total-Lagrangian FE with
     /// B-splines of a degree and particle quadrature
@@ -119,6 +115,19 @@ pub enum AlignedMethod {
 }
 
 impl AlignedMethod {
+    /// B-spline MPM of degree p with the direct mapping.
+    pub const fn bsmpm(degree: usize) -> Self {
+        AlignedMethod::Bsmpm {
+            degree,
+            mapping: Mapping2d::Direct,
+        }
+    }
+
+    /// B-spline MPM of degree p with a mapping.
+    pub const fn bsmpm_with(degree: usize, mapping: Mapping2d) -> Self {
+        AlignedMethod::Bsmpm { degree, mapping }
+    }
+
     /// Grid basis and mapping.
     pub fn parts(self) -> (Basis2d, Mapping2d) {
         match self {
@@ -126,24 +135,111 @@ impl AlignedMethod {
             AlignedMethod::TotalLagrangian { degree } => {
                 (Basis2d::BSpline { degree }, Mapping2d::Direct)
             }
-            AlignedMethod::Bsmpm { degree } => (Basis2d::BSpline { degree }, Mapping2d::Direct),
-            AlignedMethod::BsmpmMls { degree } => (Basis2d::BSpline { degree }, Mapping2d::Mls),
-            AlignedMethod::BsmpmMlsPhase1 { degree } => {
-                (Basis2d::BSpline { degree }, Mapping2d::MlsPhase1)
-            }
-            AlignedMethod::BsmpmTls { degree } => (Basis2d::BSpline { degree }, Mapping2d::Tls),
+            AlignedMethod::Bsmpm { degree, mapping } => (Basis2d::BSpline { degree }, mapping),
         }
     }
 
-    /// A label for tables and charts.
+    /// The polynomial degree of the grid basis (1 for bilinear MPM).
+    pub fn degree(self) -> usize {
+        match self {
+            AlignedMethod::Mpm => 1,
+            AlignedMethod::Bsmpm { degree, .. } | AlignedMethod::TotalLagrangian { degree } => {
+                degree
+            }
+        }
+    }
+
+    /// A label for tables and charts: `MPM`, `BSMPM-p2`, `BSMPM-p2-MLS`,
+    /// `TL-FE-p2` (the mapping's [`crate::mpm2d::step::MappingInfo::label`]).
     pub fn label(self) -> String {
         match self {
             AlignedMethod::Mpm => "MPM".into(),
-            AlignedMethod::Bsmpm { degree } => format!("BSMPM-p{degree}"),
-            AlignedMethod::BsmpmMls { degree } => format!("BSMPM-p{degree}-MLS"),
-            AlignedMethod::BsmpmMlsPhase1 { degree } => format!("BSMPM-p{degree}-MLS-phase-1"),
-            AlignedMethod::BsmpmTls { degree } => format!("BSMPM-p{degree}-TLS"),
+            AlignedMethod::Bsmpm {
+                degree,
+                mapping: Mapping2d::Direct,
+            } => format!("BSMPM-p{degree}"),
+            AlignedMethod::Bsmpm { degree, mapping } => {
+                format!("BSMPM-p{degree}-{}", mapping.info().label)
+            }
             AlignedMethod::TotalLagrangian { degree } => format!("TL-FE-p{degree}"),
+        }
+    }
+
+    /// The method's tag in JSON: `mpm`, `bsmpm`, `bsmpm-<mapping name>`,
+    /// `total-lagrangian`.
+    pub fn tag(self) -> String {
+        match self {
+            AlignedMethod::Mpm => "mpm".into(),
+            AlignedMethod::Bsmpm {
+                mapping: Mapping2d::Direct,
+                ..
+            } => "bsmpm".into(),
+            AlignedMethod::Bsmpm { mapping, .. } => format!("bsmpm-{}", mapping.name()),
+            AlignedMethod::TotalLagrangian { .. } => "total-lagrangian".into(),
+        }
+    }
+
+    /// The method of a tag with a degree ([`AlignedMethod::tag`]), if the
+    /// tag names one.
+    pub fn from_tag(tag: &str, degree: usize) -> Option<Self> {
+        match tag {
+            "mpm" => Some(AlignedMethod::Mpm),
+            "bsmpm" => Some(AlignedMethod::bsmpm(degree)),
+            "total-lagrangian" => Some(AlignedMethod::TotalLagrangian { degree }),
+            _ => {
+                let mapping = Mapping2d::from_name(tag.strip_prefix("bsmpm-")?)?;
+                (mapping != Mapping2d::Direct).then_some(AlignedMethod::Bsmpm { degree, mapping })
+            }
+        }
+    }
+}
+
+/// The degree inside a tagged [`AlignedMethod`] in JSON.
+#[derive(Serialize, Deserialize)]
+struct DegreeField {
+    degree: usize,
+}
+
+impl Serialize for AlignedMethod {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        if *self == AlignedMethod::Mpm {
+            return s.serialize_str("mpm");
+        }
+        let mut map = s.serialize_map(Some(1))?;
+        map.serialize_entry(
+            &self.tag(),
+            &DegreeField {
+                degree: self.degree(),
+            },
+        )?;
+        map.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for AlignedMethod {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Repr {
+            Unit(String),
+            Tagged(std::collections::BTreeMap<String, DegreeField>),
+        }
+        let unknown = |tag: &str| serde::de::Error::custom(format!("unknown 2D method {tag:?}"));
+        match Repr::deserialize(d)? {
+            Repr::Unit(tag) if tag == "mpm" => Ok(AlignedMethod::Mpm),
+            Repr::Unit(tag) => Err(unknown(&tag)),
+            Repr::Tagged(map) => {
+                let mut entries = map.into_iter();
+                match (entries.next(), entries.next()) {
+                    (Some((tag, field)), None) if tag != "mpm" => {
+                        AlignedMethod::from_tag(&tag, field.degree).ok_or_else(|| unknown(&tag))
+                    }
+                    _ => Err(serde::de::Error::custom(
+                        "a 2D method is \"mpm\" or one tag with its degree",
+                    )),
+                }
+            }
         }
     }
 }

@@ -21,7 +21,7 @@
 //! [`PAPER_PARTICLES_PER_SIDE`].
 
 use crate::error::Result;
-use crate::mpm2d::Conservation2d;
+use crate::mpm2d::{Conservation2d, Mapping2d};
 use crate::scenes::aligned_vibration::{
     parameters, AlignedErrors, AlignedMethod, AlignedRun, AlignedVibration,
 };
@@ -38,13 +38,13 @@ pub const PAPER_PARAMETERS: &str = "mls-paper-e1e7";
 pub const PAPER_PARTICLES_PER_SIDE: usize = 3;
 
 /// BSMPM with 2D TLS in place of MLS (not in the paper).
-pub const TLS_METHOD: AlignedMethod = AlignedMethod::BsmpmTls { degree: 2 };
+pub const TLS_METHOD: AlignedMethod = AlignedMethod::bsmpm_with(2, Mapping2d::Tls);
 
 /// The three methods of the paper's figures (quadratic B-splines).
 pub const METHODS: [AlignedMethod; 3] = [
     AlignedMethod::Mpm,
-    AlignedMethod::Bsmpm { degree: 2 },
-    AlignedMethod::BsmpmMls { degree: 2 },
+    AlignedMethod::bsmpm(2),
+    AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
 ];
 
 /// What to run.
@@ -237,7 +237,7 @@ fn jobs(o: &AlignedStudyOptions) -> Vec<Job> {
     add("mls-paper-e1e8", &METHODS, &o.other_young_sizes, &paper, 2);
     add(
         PAPER_PARAMETERS,
-        &[AlignedMethod::BsmpmMlsPhase1 { degree: 2 }],
+        &[AlignedMethod::bsmpm_with(2, Mapping2d::MlsPhase1)],
         &o.phase1_sizes,
         &paper,
         3,
@@ -261,7 +261,10 @@ pub fn aligned_study(o: &AlignedStudyOptions) -> Result<AlignedStudy> {
     let cost = |j: &Job| {
         let per = match j.method {
             AlignedMethod::Mpm => 1.0,
-            AlignedMethod::Bsmpm { .. } => 2.0,
+            AlignedMethod::Bsmpm {
+                mapping: Mapping2d::Direct,
+                ..
+            } => 2.0,
             _ => 8.0,
         };
         per * (j.cells * j.cells * j.per_side * j.per_side) as f64

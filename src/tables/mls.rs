@@ -12,6 +12,7 @@
 
 use super::{Computed, LabelledRow, RunOptions, Study, TableSpec};
 use crate::error::Result;
+use crate::mpm2d::Mapping2d;
 use crate::scenes::aligned_vibration::{parameters, AlignedErrors, AlignedMethod};
 use crate::studies::mls_paper::{
     aligned_study, AlignedStudy, AlignedStudyOptions, RunOutcome, EARLY_TIME,
@@ -107,8 +108,8 @@ pub fn claims(study: &AlignedStudy) -> Vec<LabelledRow> {
 /// values for u, v and σ.
 fn claims_at(study: &AlignedStudy, at: Option<f64>) -> Vec<Vec<Option<f64>>> {
     let mpm = AlignedMethod::Mpm;
-    let bs = AlignedMethod::Bsmpm { degree: 2 };
-    let mls = AlignedMethod::BsmpmMls { degree: 2 };
+    let bs = AlignedMethod::bsmpm(2);
+    let mls = AlignedMethod::bsmpm_with(2, Mapping2d::Mls);
     let finest = *study.options.sizes.iter().max().unwrap_or(&0);
     let evidence = |q: usize| -> [Option<f64>; 6] {
         let (em, eb) = (errors(study, mpm, q, at), errors(study, bs, q, at));

@@ -16,7 +16,7 @@ use crate::error::Result;
 use crate::oracle::exact::formulas_2d;
 use crate::oracle::run::run_2d;
 use crate::oracle::setup::{Setup, Setup2d};
-use crate::scenes::aligned_vibration::{AlignedMethod, AlignedVibration};
+use crate::scenes::aligned_vibration::AlignedVibration;
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -89,11 +89,7 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
         method: name(&a.setup.method),
         mapping: m.parts().1.name().into(),
         mass: "lumped".into(),
-        degree: if m == AlignedMethod::Mpm {
-            1
-        } else {
-            a.setup.degree
-        },
+        degree: m.degree(),
         cells: s.cells,
         ppc: s.per_side * s.per_side,
         dt: s.dt,

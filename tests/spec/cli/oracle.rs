@@ -6,6 +6,7 @@
 use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use hompm::mpm::musl::{NoObserver, Simulation, StepObserver, StepPoint};
+use hompm::mpm2d::Mapping2d;
 use hompm::oracle::check::{check, CheckOptions, DEFAULT_ATOL, DEFAULT_RTOL};
 use hompm::oracle::exact::{column_closed_form, exact_1d};
 use hompm::oracle::input::{parse_input, ColumnMap, Input};
@@ -602,7 +603,7 @@ fn aligned(amplitude: f64, young: f64) -> Setup {
     Setup::TwoD(hompm::oracle::setup::Setup2d {
         scene,
         set_name,
-        method: hompm::scenes::aligned_vibration::AlignedMethod::Bsmpm { degree: 2 },
+        method: hompm::scenes::aligned_vibration::AlignedMethod::bsmpm(2),
         cells: 4,
         per_side: 2,
         dt: 1e-5,
@@ -807,9 +808,9 @@ fn cg_with_the_solution_rule_stops_on_the_residual_over_the_iterate() {
 #[test]
 fn a_traced_2d_run_is_bit_identical_to_an_untraced_one() {
     for method in [
-        hompm::scenes::aligned_vibration::AlignedMethod::Bsmpm { degree: 2 },
-        hompm::scenes::aligned_vibration::AlignedMethod::BsmpmMls { degree: 2 },
-        hompm::scenes::aligned_vibration::AlignedMethod::BsmpmTls { degree: 2 },
+        hompm::scenes::aligned_vibration::AlignedMethod::bsmpm(2),
+        hompm::scenes::aligned_vibration::AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
+        hompm::scenes::aligned_vibration::AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
     ] {
         let Setup::TwoD(mut s) = aligned(0.1, 1e7) else {
             unreachable!()
@@ -825,10 +826,7 @@ fn a_traced_2d_run_is_bit_identical_to_an_untraced_one() {
         assert_eq!(steps, [1, 3, 5]);
         let gauss = trace.steps[0].equations.get("mls-18-21").map(Vec::len);
         // Every reconstruction (MLS or TLS) records its Gauss-point values.
-        let reconstructed = !matches!(
-            method,
-            hompm::scenes::aligned_vibration::AlignedMethod::Bsmpm { .. }
-        );
+        let reconstructed = method.parts().1 != Mapping2d::Direct;
         assert_eq!(
             gauss,
             reconstructed.then_some(8 * 8 * 8),

@@ -2,6 +2,7 @@
 
 mod deviation_causes;
 mod equation_map;
+mod extensions;
 mod file_lengths;
 mod golden_tables;
 mod layers;

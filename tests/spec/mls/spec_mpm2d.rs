@@ -952,7 +952,7 @@ fn a_particle_leaving_the_square_and_bad_steps_are_errors() {
 #[test]
 fn the_direct_mappings_conserve_mass_and_momentum_to_rounding() {
     let s = parameters("mls-paper-e1e7").unwrap();
-    for method in [AlignedMethod::Mpm, AlignedMethod::Bsmpm { degree: 2 }] {
+    for method in [AlignedMethod::Mpm, AlignedMethod::bsmpm(2)] {
         let run = s.run(method, 4, 3, 50, 0).unwrap();
         assert!(run.conservation.mass < 1e-13, "{:?}", run.conservation);
         assert!(run.conservation.momentum < 1e-13, "{:?}", run.conservation);
@@ -1066,8 +1066,8 @@ fn the_claims_are_computed_from_the_runs_as_their_labels_say() {
     let u = |m: AlignedMethod, c: usize| study.run(m, c).unwrap().last.displacement;
     let (mpm, bs, mls) = (
         AlignedMethod::Mpm,
-        AlignedMethod::Bsmpm { degree: 2 },
-        AlignedMethod::BsmpmMls { degree: 2 },
+        AlignedMethod::bsmpm(2),
+        AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
     );
     let order = |m| (u(m, 4) / u(m, 8)).log2();
     // Rows by the claim their label quotes, at T (the rows "after one
@@ -1352,8 +1352,8 @@ fn the_conservative_tls_mapping_keeps_mass_and_momentum_at_every_step() {
     let s = parameters("mls-paper-e1e7").unwrap();
     let mut largest = Vec::new();
     for method in [
-        AlignedMethod::BsmpmTls { degree: 2 },
-        AlignedMethod::BsmpmMls { degree: 2 },
+        AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
+        AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
     ] {
         let mut sim = s.simulation(method, 8, 3, 1.0).unwrap();
         let mut probe = ConservationProbe {
@@ -1369,7 +1369,10 @@ fn the_conservative_tls_mapping_keeps_mass_and_momentum_at_every_step() {
         // report. Conservation holds through the repairs.
         let repaired = sim.reconstruction_record.most_repaired;
         match method {
-            AlignedMethod::BsmpmTls { .. } => assert!(repaired > 0),
+            AlignedMethod::Bsmpm {
+                mapping: Mapping2d::Tls,
+                ..
+            } => assert!(repaired > 0),
             _ => assert_eq!(repaired, 0),
         }
         assert!(sim.reconstruction_record.largest_condition >= 1.0);
