@@ -16,8 +16,11 @@
 //!   [`update_deformation_reference`].
 //!
 //! Each loop over the particles is monomorphised on the stencil width
-//! (`with_width!`), reads the workspace's stencils and writes its nodal
-//! arrays; none allocates.
+//! (`with_width!`), reads the workspace's two 1D stencils and writes its
+//! nodal arrays; none allocates. Every scatter to the nodes and gather from
+//! them, at the particles and at the Gauss points alike, walks the tensor
+//! product of the two 1D stencils with one function, `TensorStencil::for_each`,
+//! which hands each node i its N_i and ∇N_i (Eqs. 4–5).
 //!
 //! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
 //! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
@@ -78,20 +81,53 @@ pub(super) fn evaluate_basis_at_reference(
         .fill_stencils(&ys, &mut ws.along_y, &mut ws.scratch)
 }
 
-/// The x and y stencils (values, gradients) of particle k, `w` entries
-/// each: the factors of N_i(x_p) = N_a(x) N_b(y) and of its gradient.
-#[inline]
-fn particle_stencils<'a>(
-    sx: &'a Stencils,
-    sy: &'a Stencils,
-    k: usize,
-    w: usize,
-) -> [(&'a [f64], &'a [f64]); 2] {
-    let r = k * w..(k + 1) * w;
-    [
-        (&sx.values[r.clone()], &sx.gradients[r.clone()]),
-        (&sy.values[r.clone()], &sy.gradients[r]),
-    ]
+/// The tensor-product stencil of one point, MLS paper Eqs. (4)–(5): from
+/// the 1D stencils N_a(x) along x and N_b(y) along y, the functions
+/// N_i = N_a(x) N_b(y) and gradients ∇N_i = (N_a'(x) N_b(y), N_a(x) N_b'(y))
+/// of the nodes i = (first_y + b)·n + first_x + a. Every scatter and gather
+/// of a 2D step goes through [`TensorStencil::for_each`], the 2D form of the
+/// 1D [`Stencils`].
+#[derive(Clone, Copy)]
+struct TensorStencil<'a> {
+    values_x: &'a [f64],
+    gradients_x: &'a [f64],
+    values_y: &'a [f64],
+    gradients_y: &'a [f64],
+    /// The node of (a, b) = (0, 0).
+    first: usize,
+    /// Nodes per side n.
+    nodes_per_side: usize,
+}
+
+impl<'a> TensorStencil<'a> {
+    /// The stencil of point `kx` of `sx` times point `ky` of `sy`, `w`
+    /// functions per direction, on a grid of n nodes per side.
+    #[inline(always)]
+    fn of(sx: &'a Stencils, kx: usize, sy: &'a Stencils, ky: usize, w: usize, n: usize) -> Self {
+        let (rx, ry) = (kx * w..(kx + 1) * w, ky * w..(ky + 1) * w);
+        TensorStencil {
+            values_x: &sx.values[rx.clone()],
+            gradients_x: &sx.gradients[rx],
+            values_y: &sy.values[ry.clone()],
+            gradients_y: &sy.gradients[ry],
+            first: sy.first[ky] * n + sx.first[kx],
+            nodes_per_side: n,
+        }
+    }
+
+    /// Calls `visit(i, N_i, ∇N_i)` for every node of the stencil, row by row
+    /// (b outer, a inner): the order, and so the rounding, of every sum
+    /// over the stencil.
+    #[inline(always)]
+    fn for_each(&self, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        let (vx, gx) = (self.values_x, self.gradients_x);
+        for (b, (&nb, &db)) in self.values_y.iter().zip(self.gradients_y).enumerate() {
+            let row = self.first + b * self.nodes_per_side;
+            for (a, (&na, &da)) in vx.iter().zip(gx).enumerate() {
+                visit(row + a, na * nb, [da * nb, na * db]);
+            }
+        }
+    }
 }
 
 fn clear_nodes(ws: &mut Workspace2d) {
@@ -151,24 +187,13 @@ fn map_direct_with<const W: usize>(
         let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
         let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
         let s = stress(k);
-        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
-        for b in 0..w {
-            let row = (sy.first[k] + b) * n + sx.first[k];
-            let (mass, momentum, force) = (
-                &mut ws.mass[row..row + w],
-                &mut ws.momentum[row..row + w],
-                &mut ws.force[row..row + w],
-            );
-            for a in 0..w {
-                let nn = vx[a] * vy[b];
-                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
-                mass[a] += nn * m;
-                momentum[a][0] += nn * mv[0];
-                momentum[a][1] += nn * mv[1];
-                force[a][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
-                force[a][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
-            }
-        }
+        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, dn| {
+            ws.mass[i] += nn * m;
+            ws.momentum[i][0] += nn * mv[0];
+            ws.momentum[i][1] += nn * mv[1];
+            ws.force[i][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+            ws.force[i][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+        });
     }
 }
 
@@ -241,22 +266,14 @@ fn map_reconstructed_with(
 /// q = ω [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy].
 fn scatter_gauss_point(grid: &Grid2d, gx: usize, gy: usize, q: &[f64; 8], ws: &mut Workspace2d) {
     let s = grid.gauss_stencils();
-    let n = grid.nodes_per_side();
-    let (vx, dx) = (s.values_of(gx), s.gradients_of(gx));
-    let (vy, dy) = (s.values_of(gy), s.gradients_of(gy));
-    for b in 0..vy.len() {
-        let row = (s.first[gy] + b) * n + s.first[gx];
-        for a in 0..vx.len() {
-            let i = row + a;
-            let nn = vx[a] * vy[b];
-            let dn = [dx[a] * vy[b], vx[a] * dy[b]];
-            ws.mass[i] += nn * q[0];
-            ws.momentum[i][0] += nn * q[1];
-            ws.momentum[i][1] += nn * q[2];
-            ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
-            ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
-        }
-    }
+    let stencil = TensorStencil::of(s, gx, s, gy, s.width(), grid.nodes_per_side());
+    stencil.for_each(|i, nn, dn| {
+        ws.mass[i] += nn * q[0];
+        ws.momentum[i][0] += nn * q[1];
+        ws.momentum[i][1] += nn * q[2];
+        ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
+        ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+    });
 }
 
 pub(super) fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Conservation2d) {
@@ -344,20 +361,13 @@ fn update_particles_with<const W: usize>(
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
-        for (b, &nb) in vy.iter().enumerate() {
-            let row = (sy.first[k] + b) * n + sx.first[k];
-            let acc = &ws.acceleration[row..row + w];
-            let vel = &ws.velocity_next[row..row + w];
-            for i in 0..w {
-                let nn = vx[i] * nb;
-                a[0] += nn * acc[i][0];
-                a[1] += nn * acc[i][1];
-                v[0] += nn * vel[i][0];
-                v[1] += nn * vel[i][1];
-            }
-        }
+        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+            a[0] += nn * ws.acceleration[i][0];
+            a[1] += nn * ws.acceleration[i][1];
+            v[0] += nn * ws.velocity_next[i][0];
+            v[1] += nn * ws.velocity_next[i][1];
+        });
         p.velocity[k][0] += dt * a[0];
         p.velocity[k][1] += dt * a[1];
         p.x[k] += dt * v[0];
@@ -433,16 +443,10 @@ fn map_particle_momentum_with<const W: usize>(
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
         let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
-        let [(vx, _), (vy, _)] = particle_stencils(sx, sy, k, w);
-        for (b, &nb) in vy.iter().enumerate() {
-            let row = (sy.first[k] + b) * n + sx.first[k];
-            let momentum = &mut ws.momentum_end[row..row + w];
-            for a in 0..w {
-                let nn = vx[a] * nb;
-                momentum[a][0] += nn * mv[0];
-                momentum[a][1] += nn * mv[1];
-            }
-        }
+        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+            ws.momentum_end[i][0] += nn * mv[0];
+            ws.momentum_end[i][1] += nn * mv[1];
+        });
     }
 }
 
@@ -456,15 +460,10 @@ fn scatter_vector(
     q: [f64; 2],
     out: &mut [[f64; 2]],
 ) {
-    let (vx, vy) = (sx.values_of(kx), sy.values_of(ky));
-    for (b, &nb) in vy.iter().enumerate() {
-        let row = (sy.first[ky] + b) * n + sx.first[kx];
-        for (a, &na) in vx.iter().enumerate() {
-            let o = &mut out[row + a];
-            o[0] += na * nb * q[0];
-            o[1] += na * nb * q[1];
-        }
-    }
+    TensorStencil::of(sx, kx, sy, ky, sx.width(), n).for_each(|i, nn, _| {
+        out[i][0] += nn * q[0];
+        out[i][1] += nn * q[1];
+    });
 }
 
 /// MLS paper Eqs. (34)–(37) and (41): ∇v_p = Σ_i v_i^L ⊗ ∇N_i(x_p),
@@ -515,19 +514,14 @@ fn update_deformation_with<const W: usize>(
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.along_x, &ws.along_y);
     for k in 0..p.len() {
-        let [(vx, gx), (vy, gy)] = particle_stencils(sx, sy, k, w);
         let mut l = [0.0; 4];
-        for b in 0..w {
-            let row = (sy.first[k] + b) * n + sx.first[k];
-            let vel = &ws.velocity_end[row..row + w];
-            for a in 0..w {
-                let dn = [gx[a] * vy[b], vx[a] * gy[b]];
-                l[0] += vel[a][0] * dn[0];
-                l[1] += vel[a][0] * dn[1];
-                l[2] += vel[a][1] * dn[0];
-                l[3] += vel[a][1] * dn[1];
-            }
-        }
+        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, _, dn| {
+            let v = ws.velocity_end[i];
+            l[0] += v[0] * dn[0];
+            l[1] += v[0] * dn[1];
+            l[2] += v[1] * dn[0];
+            l[3] += v[1] * dn[1];
+        });
         let l = Matrix2::new(l[0], l[1], l[2], l[3]);
         let f = rule(l, p.deformation[k]);
         let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
