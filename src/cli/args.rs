@@ -40,7 +40,8 @@ fn method_choices() -> &'static (Vec<MethodArg>, Vec<&'static str>) {
             .collect();
         for mapping in Mapping2d::ALL {
             if mapping != Mapping2d::Direct {
-                let name: &'static str = format!("bsmpm-{}", mapping.name()).leak();
+                // The 2D method's own JSON tag, `bsmpm-<name>`.
+                let name: &'static str = AlignedMethod::bsmpm_with(1, mapping).tag().leak();
                 choices.push((name, mapping.info().summary));
             }
         }
@@ -59,29 +60,14 @@ impl MethodArg {
     /// Linear Lagrange MPM, the default.
     pub const MPM: MethodArg = MethodArg { name: "mpm" };
 
-    /// The choice of a registered name.
-    pub fn from_name(name: &str) -> Result<MethodArg> {
-        let (choices, _) = method_choices();
-        choices
-            .iter()
-            .copied()
-            .find(|c| c.name == name)
-            .ok_or_else(|| Error::InvalidArgument(format!("unknown method {name:?}")))
-    }
-
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
-        self.name
-    }
-
     /// The library's 1D [`Method`]: the family of this name with `degree`
     /// and `node_integrals` (which only a method with node integrals takes).
     pub fn method(self, degree: usize, node_integrals: NodeIntegrals) -> Result<Method> {
-        let family = METHOD_FAMILIES.iter().find(|f| f.name == self.name);
-        let method = match family {
-            Some(f) => Some((f.method)(degree, node_integrals)?),
-            None => None,
-        };
+        let method = METHOD_FAMILIES
+            .iter()
+            .find(|f| f.name == self.name)
+            .map(|f| (f.method)(degree, node_integrals))
+            .transpose()?;
         if node_integrals != NodeIntegrals::Exact
             && method.and_then(|m| m.node_integrals()).is_none()
         {

@@ -70,6 +70,18 @@ fn every_registered_2d_mapping_is_a_method_of_the_aligned_vibration_on_the_comma
         ));
         assert_eq!(v["method"], method.as_str());
         assert_eq!(v["mapping"], mapping.name());
+        // The oracle's trace runs it too, and a reconstruction records its
+        // Gauss-point values (MLS paper Eqs. 18-21).
+        let trace = cli::run(
+            format!("trace aligned-vibration --method {method} --cells 2 --steps 1")
+                .split_whitespace(),
+        )
+        .unwrap_or_else(|e| panic!("trace {method}: {e}"));
+        assert_eq!(
+            trace.stdout.contains("mls-18-21"),
+            mapping != Mapping2d::Direct,
+            "{method}"
+        );
         // The mapping's JSON name is serde's.
         assert_eq!(
             serde_json::to_value(mapping).unwrap(),

@@ -472,7 +472,7 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
     }
 }
 
-/// Map rows: mls-22, mls-23, mls-25 — the three nodal sums of phase 1 come from one dense assembly.
+/// Map rows: mls-4, mls-5, mls-22, mls-23, mls-25 — the three nodal sums of phase 1 come from one dense assembly with the tensor basis N_i and ∇N_i, so the engine's tensor stencil is pinned by the same comparison.
 #[test]
 fn direct_mapping_equals_a_dense_assembly_with_the_tensor_basis() {
     // Degree 4 (width 5) takes the loops whose width is known at run time.
@@ -642,7 +642,7 @@ fn the_particle_velocity_update_hands_the_particles_the_momentum_the_grid_gained
 /// step's own v^L. Random velocities make L full (off-diagonal terms too);
 /// degree 4 (width 5) takes the loops whose width is known only at run time.
 ///
-/// Map rows: mls-34, mls-35 — the velocity gradient and the F update are one computation.
+/// Map rows: mls-5, mls-34, mls-35 — the velocity gradient is Σ v_i ⊗ ∇N_i with the tensor gradient, and it and the F update are one computation.
 #[test]
 fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() {
     for degree in [1, 2, 4] {
