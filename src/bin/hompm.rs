@@ -13,8 +13,17 @@ fn print(out: &str) {
     let _ = stdout.flush();
 }
 
+/// One line on stderr; a closed stderr is not a reason to panic.
+fn line_to_stderr(kind: &str, text: &str) {
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "{kind}: {}",
+        hompm::cli::one_line(text)
+    );
+}
+
 fn fail(e: &hompm::Error) -> ExitCode {
-    eprintln!("error: {}", hompm::cli::one_line(&e.to_string()));
+    line_to_stderr("error", &e.to_string());
     ExitCode::from(hompm::cli::exit_code(e))
 }
 
@@ -22,7 +31,7 @@ fn main() -> ExitCode {
     match hompm::cli::run(std::env::args_os().skip(1)) {
         Ok(out) => {
             for w in &out.warnings {
-                eprintln!("warning: {}", hompm::cli::one_line(w));
+                line_to_stderr("warning", w);
             }
             print(&out.stdout);
             match &out.failure {

@@ -56,7 +56,10 @@ impl Limits {
     }
 
     /// Refuses `what` if its estimated run time exceeds `--max-seconds`;
-    /// announces it on stderr if it exceeds [`ANNOUNCE_SECONDS`].
+    /// announces it on stderr if it exceeds [`ANNOUNCE_SECONDS`] and
+    /// stderr is a terminal. To a pipe or a file the note is not written,
+    /// so that a command that then fails leaves its one error line alone
+    /// (issue #35).
     pub fn check_time(&self, what: impl FnOnce() -> String, needed: f64) -> Result<()> {
         if needed.is_nan() || needed > self.max_seconds {
             return Err(Error::OverLimit {
@@ -66,7 +69,7 @@ impl Limits {
                 flag: "--max-seconds",
             });
         }
-        if needed > ANNOUNCE_SECONDS {
+        if needed > ANNOUNCE_SECONDS && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
             eprintln!("note: {} will take about {}", what(), seconds(needed));
         }
         Ok(())

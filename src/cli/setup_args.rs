@@ -308,7 +308,10 @@ fn per_side(ppc: usize) -> Result<usize> {
 }
 
 /// Memory: about 200 bytes plus 16 per stencil entry for each particle,
-/// the same per DOF, and 200 bytes of JSON per particle. Time: about
+/// the same per DOF, and 600 bytes of JSON per particle (7 numbers of
+/// about 30 characters of pretty JSON, in a string that grows by
+/// doubling, and the columns' copies; measured in docs/conventions.md,
+/// "Up-front limits"). Time: about
 /// 45 + 4 w² ns per particle-step for a stencil of width w (the divan
 /// benchmark measures 24–50 ns for w ≤ 3), 200 ns more for TLS or
 /// cubic-spline mappings, and a banded solve per step for a consistent mass.
@@ -318,7 +321,7 @@ fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> R
     let width = d.method.functions_per_particle() as f64;
     let dofs = 2.0 * d.cells as f64 + width;
     let what = || format!("a run of {particles:.0} particles × {} steps", s.steps);
-    let bytes = (particles + dofs) * (200.0 + 16.0 * width) + particles * 200.0 + extra;
+    let bytes = (particles + dofs) * (200.0 + 16.0 * width) + particles * 600.0 + extra;
     limits.check_memory(what, bytes, "particle and grid storage")?;
     let mapping = if a.mapping == MappingArg::Direct {
         0.0
@@ -336,8 +339,8 @@ fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> R
 
 /// Memory: about 400 bytes per particle, 100 per node, and for MLS 12
 /// bytes per (Gauss point, particle) pair, about 40 per particle (up to 7
-/// times that where the material is compressed); 250 bytes of JSON per
-/// particle. Time: the divan benchmark's 60 (MPM), 110 (BSMPM p = 2),
+/// times that where the material is compressed); 1500 bytes of JSON per
+/// particle (18 numbers, as in 1D). Time: the divan benchmark's 60 (MPM), 110 (BSMPM p = 2),
 /// 500 (MLS) and 250 (TLS) ns per particle-step, doubled for the compressed states and
 /// scaled by (p + 1)²/9 for other degrees.
 fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
@@ -346,7 +349,7 @@ fn check_limits_2d(s: &Setup2d, limits: &Limits, extra: f64) -> Result<()> {
     let particles = (s.cells as f64).powi(2) * (s.per_side as f64).powi(2);
     let nodes = (s.cells as f64 + degree as f64).powi(2);
     let what = || format!("a 2D run of {particles:.0} particles × {} steps", s.steps);
-    let bytes = particles * (650.0 + mapping.bytes_per_particle) + nodes * 100.0 + extra;
+    let bytes = particles * (1900.0 + mapping.bytes_per_particle) + nodes * 100.0 + extra;
     limits.check_memory(what, bytes, "particle, grid and MLS storage")?;
     let width2 = (degree as f64 + 1.0).powi(2) / 9.0;
     let ns = match s.method {

@@ -3,66 +3,81 @@
 //! [`check`] takes the other code's particles (or trace) and hompm's run of
 //! the same [`Setup`], and reports:
 //!
-//! - per field (x, u, v, stress, F, volume, density): the largest absolute
-//!   and relative difference and the particle of each;
+//! - per field (x0, x, u, v, stress, F, volume, density): the largest
+//!   absolute and relative difference, the particle of each, the worst
+//!   value outside the tolerance, and the absolute tolerance used;
 //! - both codes' RMS and L∞ errors against the exact solution, the RMS of
 //!   MLS paper Eq. (43) with the Euclidean norm per particle (Frobenius for
 //!   tensors; a symmetric stress given as xx, yy, xy counts xy twice),
 //!   evaluated at the particles' initial positions at t = steps × Δt;
 //! - with a trace: the first step, equation and index where the two
 //!   differ, both values and the equation's citation;
-//! - a verdict in plain words.
+//! - a verdict in plain words, naming every field it compared.
+//!
+//! **The rule** (issue #35; docs/oracle.md "What agrees means"): `check`
+//! says "agrees" only when it compared at least one of u, v, stress or F
+//! ([`PHYSICAL_FIELDS`]) for every particle, and, with a trace, the
+//! equations of its final step; a file that gives none of them is refused
+//! ([`Error::Input`], exit 2) with the columns it ignored. Its input is
+//! read strictly (`oracle::input`): a trace's steps must lie in 1..=steps,
+//! end at the last step, and give every quantity hompm also traces with
+//! hompm's number of values.
 //!
 //! **The tolerance rule** (after Uintah's regression tester): a value
-//! fails only when both |yours − hompm| > atol and |yours − hompm| >
-//! rtol·|hompm|. The defaults, [`DEFAULT_RTOL`] and [`DEFAULT_ATOL`], come
-//! from measurement (docs/oracle.md): the same method run with the
-//! Cholesky and the Richardson (1e-9) solve of a consistent mass differs by
-//! up to about 1e-9 relative; rounding alone (another summation order)
-//! stays below 1e-12. The relative difference is |yours − hompm|/|hompm|,
-//! left out where hompm's value is 0.
+//! fails only when both |yours − hompm| > atol·s and |yours − hompm| >
+//! rtol·|hompm|, where s is the field's scale: the largest magnitude of
+//! that field in hompm's run (of that equation's quantity at that step,
+//! for a trace). The absolute tolerance thus has the field's units, and
+//! rounding around a zero of a stress in Pa is judged against the
+//! stress's size, not against 1e-12 Pa. The defaults, [`DEFAULT_RTOL`]
+//! and [`DEFAULT_ATOL`], come from measurement (docs/oracle.md): they
+//! separate rounding (another summation order, another compiler) from a
+//! change of solver or of its stopping rule. The relative difference is
+//! |yours − hompm|/|hompm|, left out where hompm's value is 0. A
+//! difference beyond the largest double is written as the largest double
+//! (`f64::MAX`), never as ∞.
 //!
-//! **Matching particles** is `oracle::state`'s: by `id`, or by initial
-//! position.
+//! **Matching particles** is `oracle::state`'s: by `id`, by initial
+//! position, or by order when asked; an id and an x0 that name different
+//! particles are refused.
 //!
 //! Items: [`check`], [`CheckOptions`], [`MatchBy`], [`CheckReport`],
-//! [`FieldReport`], [`Pair`], [`FirstDifference`], [`first_difference`],
-//! [`check_header`], [`DEFAULT_RTOL`], [`DEFAULT_ATOL`],
+//! [`FieldReport`], [`Pair`], [`ValueAt`], [`FirstDifference`]
+//! (re-exported from `oracle::compare`), [`check_header`], [`check_metadata`],
+//! [`DEFAULT_RTOL`], [`DEFAULT_ATOL`], [`PHYSICAL_FIELDS`],
 //! [`field_columns`].
 
+use super::compare::{
+    compare_field, exact_errors, first_difference, saturate, Tolerance, TraceComparison,
+};
+pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt};
 use super::exact::{exact_1d, exact_2d};
-use super::input::{Input, ParticleTable};
+use super::input::Input;
 use super::setup::Setup;
+pub use super::state::MatchBy;
 use super::state::{match_particles, state_of_trace, x0_columns, State};
-use super::trace::{Equation, Trace, EQUATIONS_1D, EQUATIONS_2D};
+use super::trace::{Equation, Trace, TraceStep, EQUATIONS_1D, EQUATIONS_2D};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
 /// The default relative tolerance (module docs).
 pub const DEFAULT_RTOL: f64 = 1e-9;
-/// The default absolute tolerance (module docs).
+/// The default absolute tolerance, as a fraction of the field's scale
+/// (module docs).
 pub const DEFAULT_ATOL: f64 = 1e-12;
 
-/// How the other code's particles are matched with hompm's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum MatchBy {
-    /// By `id` if the file has it, else by initial position.
-    #[default]
-    Auto,
-    /// By the `id` column.
-    Id,
-    /// By the initial position (x0, or x0_x and x0_y).
-    X0,
-}
+/// The fields of which `check` must compare at least one to say
+/// "agrees": the solution itself, not the positions or the volumes
+/// that follow from it.
+pub const PHYSICAL_FIELDS: [&str; 4] = ["u", "v", "stress", "F"];
 
 /// What a check is asked to do.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CheckOptions {
     /// Relative tolerance.
     pub rtol: f64,
-    /// Absolute tolerance.
+    /// Absolute tolerance, as a fraction of each field's scale.
     pub atol: f64,
     /// Particle matching.
     pub match_by: MatchBy,
@@ -78,63 +93,14 @@ impl Default for CheckOptions {
     }
 }
 
-/// A quantity of both codes.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Pair {
-    /// The other code's.
-    pub yours: f64,
-    /// hompm's.
-    pub hompm: f64,
-}
-
-/// The comparison of one field.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FieldReport {
-    /// The columns compared.
-    pub columns: Vec<String>,
-    /// Largest |yours − hompm| over particles and components.
-    pub max_abs: f64,
-    /// Largest |yours − hompm|/|hompm| (where hompm's value is not 0).
-    pub max_rel: f64,
-    /// hompm's index of the particle with the largest absolute difference.
-    pub worst_particle: usize,
-    /// hompm's index of the particle with the largest relative difference.
-    pub worst_particle_rel: usize,
-    /// The values at the worst particle (largest absolute difference).
-    pub at_worst: Pair,
-    /// Values that fail the tolerance rule.
-    pub failures: usize,
-    /// RMS error against the exact solution (Eq. 43), where one exists.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rms_exact: Option<Pair>,
-    /// L∞ error against the exact solution (largest per-particle norm).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub linf_exact: Option<Pair>,
-}
-
-/// Where two traces first part.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FirstDifference {
-    /// The step, from 1.
-    pub step: usize,
-    /// The equation key, e.g. `book-4.10`.
-    pub equation: String,
-    /// The citation, e.g. `book Eq. (4.10)`.
-    pub citation: String,
-    /// What the quantity is.
-    pub quantity: String,
-    /// `dof`, `particle` or `solver`.
-    pub index_kind: String,
-    /// The DOF, node, particle, Gauss point or entry.
-    pub index: usize,
-    /// The component (x, y, xx, …) of a vector or tensor quantity.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub component: Option<String>,
-    /// Both values (NaN never: a missing value is reported by `count`).
-    pub values: Pair,
-    /// Both codes' number of values, when they differ.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub count: Option<[usize; 2]>,
+impl CheckOptions {
+    /// The tolerance rule of these options.
+    pub fn tolerance(&self) -> Tolerance {
+        Tolerance {
+            rtol: self.rtol,
+            atol: self.atol,
+        }
+    }
 }
 
 /// The whole report of `hompm check`.
@@ -152,14 +118,22 @@ pub struct CheckReport {
     pub particles: usize,
     /// How they were matched: `id`, `id (1-based)`, `x0` or `order`.
     pub matched_by: String,
+    /// The fields compared, in the order of [`field_columns`].
+    pub compared_fields: Vec<String>,
     /// Per field.
     pub fields: BTreeMap<String, FieldReport>,
+    /// The file's columns that were not compared (not hompm's names).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ignored_columns: Vec<String>,
     /// Where the traces first differ (with a trace).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_difference: Option<FirstDifference>,
     /// The equation keys compared in the trace (with a trace).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub compared_equations: Vec<String>,
+    /// The trace's keys that were not compared (with a trace).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ignored_equations: Vec<String>,
     /// The ratio of your RMS error of u to hompm's, where both exist.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_ratio: Option<f64>,
@@ -167,11 +141,10 @@ pub struct CheckReport {
     pub time: f64,
 }
 
-/// The fields and their columns.
+/// The fields and their columns, in the order a report lists them.
 pub fn field_columns(two_d: bool) -> &'static [(&'static str, &'static [&'static str])] {
     if two_d {
         &[
-            ("x", &["x_x", "x_y"]),
             ("u", &["u_x", "u_y"]),
             ("v", &["v_x", "v_y"]),
             (
@@ -179,25 +152,22 @@ pub fn field_columns(two_d: bool) -> &'static [(&'static str, &'static [&'static
                 &["stress_xx", "stress_yy", "stress_xy", "stress_yx"],
             ),
             ("F", &["F_xx", "F_xy", "F_yx", "F_yy"]),
+            ("x0", &["x0_x", "x0_y"]),
+            ("x", &["x_x", "x_y"]),
             ("volume", &["volume"]),
             ("density", &["density"]),
         ]
     } else {
         &[
-            ("x", &["x"]),
             ("u", &["u"]),
             ("v", &["v"]),
             ("stress", &["stress"]),
+            ("x0", &["x0"]),
+            ("x", &["x"]),
             ("volume", &["volume"]),
             ("density", &["density"]),
         ]
     }
-}
-
-/// Whether a value fails the rule: both tolerances exceeded.
-fn fails(yours: f64, hompm: f64, o: &CheckOptions) -> bool {
-    let d = (yours - hompm).abs();
-    d > o.atol && d > o.rtol * hompm.abs()
 }
 
 /// The exact fields at initial positions, in the check's column names
@@ -240,140 +210,6 @@ fn exact_columns(setup: &Setup, x0: &[Vec<f64>]) -> Result<BTreeMap<&'static str
         }
     }
     Ok(out)
-}
-
-/// Compares one field's present columns.
-fn compare_field(
-    columns: &[&str],
-    theirs: &ParticleTable,
-    ours: &ParticleTable,
-    perm: &[usize],
-    o: &CheckOptions,
-) -> Option<FieldReport> {
-    let present: Vec<&str> = columns
-        .iter()
-        .copied()
-        .filter(|c| theirs.column(c).is_some() && ours.column(c).is_some())
-        .collect();
-    if present.is_empty() {
-        return None;
-    }
-    let mut r = FieldReport {
-        columns: present.iter().map(|c| c.to_string()).collect(),
-        max_abs: 0.0,
-        max_rel: 0.0,
-        worst_particle: perm[0],
-        worst_particle_rel: perm[0],
-        at_worst: Pair {
-            yours: 0.0,
-            hompm: 0.0,
-        },
-        failures: 0,
-        rms_exact: None,
-        linf_exact: None,
-    };
-    let mut first = true;
-    for c in &present {
-        let (y, h) = (theirs.column(c)?, ours.column(c)?);
-        for (row, &k) in perm.iter().enumerate() {
-            let (a, b) = (y[row], h[k]);
-            let d = (a - b).abs();
-            if first || d > r.max_abs {
-                r.max_abs = d;
-                r.worst_particle = k;
-                r.at_worst = Pair { yours: a, hompm: b };
-                first = false;
-            }
-            if b != 0.0 && d / b.abs() > r.max_rel {
-                r.max_rel = d / b.abs();
-                r.worst_particle_rel = k;
-            }
-            if fails(a, b, o) {
-                r.failures += 1;
-            }
-        }
-    }
-    Some(r)
-}
-
-/// RMS and L∞ over particles of the per-particle norm of (values − exact)
-/// over `columns`; stress_yx falls back on stress_xy (a symmetric stress).
-fn exact_errors(
-    columns: &[&str],
-    table: &ParticleTable,
-    rows: &[usize],
-    exact: &BTreeMap<&'static str, Vec<f64>>,
-) -> Option<(f64, f64)> {
-    let mut sum = vec![0.0; rows.len()];
-    for c in columns {
-        let values = table.column(c).or_else(|| {
-            (*c == "stress_yx")
-                .then(|| table.column("stress_xy"))
-                .flatten()
-        })?;
-        let e = exact.get(c)?;
-        for (j, &k) in rows.iter().enumerate() {
-            sum[j] += (values[k] - e[j]).powi(2);
-        }
-    }
-    let n = rows.len() as f64;
-    let rms = (sum.iter().sum::<f64>() / n).sqrt();
-    let linf = sum.iter().map(|s| s.sqrt()).fold(0.0, f64::max);
-    Some((rms, linf))
-}
-
-/// Compares two traces step by step, equation by equation in the order
-/// of the step (`table`: [`EQUATIONS_1D`] or [`EQUATIONS_2D`]), index by
-/// index: the first value that fails the tolerance rule, and the keys
-/// compared.
-pub fn first_difference(
-    theirs: &Trace,
-    ours: &Trace,
-    o: &CheckOptions,
-    table: &[Equation],
-) -> (Option<FirstDifference>, Vec<String>) {
-    let mut compared: Vec<String> = Vec::new();
-    for ts in &theirs.steps {
-        let Some(os) = ours.steps.iter().find(|s| s.step == ts.step) else {
-            continue;
-        };
-        for e in table {
-            let (Some(y), Some(h)) = (ts.equations.get(e.key), os.equations.get(e.key)) else {
-                continue;
-            };
-            if !compared.iter().any(|k| k == e.key) {
-                compared.push(e.key.to_string());
-            }
-            let diff = |flat: usize, yours: f64, hompm: f64, count: Option<[usize; 2]>| {
-                let (index, component) = e.locate(flat);
-                FirstDifference {
-                    step: ts.step,
-                    equation: e.key.into(),
-                    citation: e.citation.into(),
-                    quantity: format!("{} {}", e.quantity, e.symbol),
-                    index_kind: e.index.word().into(),
-                    index,
-                    component: component.map(str::to_string),
-                    values: Pair { yours, hompm },
-                    count,
-                }
-            };
-            for (i, (&a, &b)) in y.iter().zip(h).enumerate() {
-                if fails(a, b, o) {
-                    return (Some(diff(i, a, b, None)), compared);
-                }
-            }
-            if y.len() != h.len() {
-                let i = y.len().min(h.len());
-                let at = |v: &[f64]| v.get(i).copied().unwrap_or(0.0);
-                return (
-                    Some(diff(i, at(y), at(h), Some([y.len(), h.len()]))),
-                    compared,
-                );
-            }
-        }
-    }
-    (None, compared)
 }
 
 /// Checks a trace's header against hompm's: every setting both name must
@@ -427,6 +263,78 @@ pub fn check_header(
     Ok(())
 }
 
+/// Checks the metadata a file names (`# key: value` lines, or a JSON
+/// document's top-level scalars) against the setup: `scene`, `cells`,
+/// `ppc`, `steps`, `dt` and `time`, where given, must be the setup's
+/// (numbers to 1e-12 relative). A file of another run is refused, not
+/// compared.
+pub fn check_metadata(metadata: &BTreeMap<String, String>, setup: &Setup) -> Result<()> {
+    let refuse = |key: &str, theirs: &str, ours: String| {
+        Error::Input(format!(
+            "the file says {key} = {}, this check's setup has {ours}; give the options of the run that wrote it",
+            super::input_json::short(theirs)
+        ))
+    };
+    if let Some(scene) = metadata.get("scene") {
+        let names = setup.scene_names();
+        if !names.contains(&scene.trim_matches('"')) {
+            return Err(refuse("scene", scene, names.join(" or ")));
+        }
+    }
+    let (cells, ppc) = setup.cells_and_ppc();
+    let numbers = [
+        ("cells", cells as f64),
+        ("ppc", ppc as f64),
+        ("steps", setup.steps() as f64),
+        ("dt", setup.dt()),
+        ("time", setup.end_time()),
+    ];
+    for (key, ours) in numbers {
+        let Some(text) = metadata.get(key) else {
+            continue;
+        };
+        let theirs: f64 = text.trim_matches('"').trim().parse().map_err(|_| {
+            Error::Input(format!(
+                "the file's {key} '{}' is not a number",
+                super::input_json::short(text)
+            ))
+        })?;
+        if (theirs - ours).abs() > 1e-12 * ours.abs().max(theirs.abs()) || theirs.is_nan() {
+            return Err(refuse(key, text, format!("{ours}")));
+        }
+    }
+    Ok(())
+}
+
+/// A trace's steps checked against a run of `steps` steps: each in
+/// 1..=steps, in order, none twice, the last one the run's last.
+fn check_steps(trace: &Trace, steps: usize) -> Result<&TraceStep> {
+    let mut previous = 0;
+    for s in &trace.steps {
+        if s.step == 0 || s.step > steps {
+            return Err(Error::Input(format!(
+                "the trace has step {}; the run has steps 1 to {steps}",
+                s.step
+            )));
+        }
+        if s.step <= previous {
+            return Err(Error::Input(format!(
+                "the trace has step {} after step {previous}; steps are ordered by number and given once",
+                s.step
+            )));
+        }
+        previous = s.step;
+    }
+    match trace.steps.last() {
+        Some(last) if last.step == steps => Ok(last),
+        Some(last) => Err(Error::Input(format!(
+            "the trace ends at step {}; its last step must be the run's last, {steps}, whose particles are compared as the final state",
+            last.step
+        ))),
+        None => Err(Error::Input("the trace has no steps".into())),
+    }
+}
+
 /// Compares `input` (the other code's particles or trace) with hompm's
 /// final `state` and, for a trace, hompm's trace `ours` of the same steps.
 pub fn check(
@@ -443,19 +351,19 @@ pub fn check(
             )));
         }
     }
+    let n = state.particles.rows();
     let (theirs, trace) = match input {
         Input::Particles(t) => (t.clone(), None),
         Input::Trace(t) => {
-            let table = state_of_trace(t).ok_or_else(|| {
-                Error::Input(
-                    "the trace's last step has no particle positions (book-4.12, book-4.13)".into(),
-                )
-            })?;
-            (table, Some(t))
+            let mut sorted = t.clone();
+            sorted.steps = super::input_json::ordered_steps(sorted.steps)?;
+            let last = check_steps(&sorted, setup.steps())?;
+            let table = state_of_trace(last, n, state.two_d)?;
+            (table, Some(sorted))
         }
     };
+    check_metadata(&theirs.metadata, setup)?;
     let (perm, matched_by) = match_particles(&theirs, state, o.match_by)?;
-    let n = perm.len();
     // Exact fields at the other code's X where it gives X, else hompm's.
     let names = x0_columns(state.two_d);
     let their_x0: Option<Vec<Vec<f64>>> = names
@@ -473,16 +381,18 @@ pub fn check(
         .collect();
     let exact_yours = exact_columns(setup, their_x0.as_ref().unwrap_or(&our_x0))?;
     let exact_ours = exact_columns(setup, &our_x0)?;
-    let rows_yours: Vec<usize> = (0..n).collect();
+    let rows_yours: Vec<usize> = (0..perm.len()).collect();
+    let tolerance = o.tolerance();
     let mut fields = BTreeMap::new();
+    let mut compared_fields = Vec::new();
     for (field, columns) in field_columns(state.two_d) {
-        let Some(mut r) = compare_field(columns, &theirs, &state.particles, &perm, o) else {
+        let Some(mut r) = compare_field(columns, &theirs, &state.particles, &perm, &tolerance)?
+        else {
             continue;
         };
-        let needed: Vec<&str> = columns.to_vec();
         if let (Some(y), Some(h)) = (
-            exact_errors(&needed, &theirs, &rows_yours, &exact_yours),
-            exact_errors(&needed, &state.particles, &perm, &exact_ours),
+            exact_errors(columns, &theirs, &rows_yours, &exact_yours),
+            exact_errors(columns, &state.particles, &perm, &exact_ours),
         ) {
             r.rms_exact = Some(Pair {
                 yours: y.0,
@@ -493,11 +403,17 @@ pub fn check(
                 hompm: h.1,
             });
         }
+        compared_fields.push(field.to_string());
         fields.insert(field.to_string(), r);
     }
-    if fields.is_empty() {
-        return Err(Error::Input(
-            "the file has no field to compare (x, u, v, stress, F, volume or density)".into(),
+    if !compared_fields
+        .iter()
+        .any(|f| PHYSICAL_FIELDS.contains(&f.as_str()))
+    {
+        return Err(nothing_physical(
+            &compared_fields,
+            &theirs.ignored,
+            state.two_d,
         ));
     }
     let table: &[Equation] = if state.two_d {
@@ -505,93 +421,177 @@ pub fn check(
     } else {
         &EQUATIONS_1D
     };
-    let (first, compared) = match (trace, ours) {
-        (Some(t), Some(h)) => first_difference(t, h, o, table),
-        _ => (None, Vec::new()),
+    let traced = match (&trace, ours) {
+        (Some(t), Some(h)) => first_difference(t, h, &tolerance, table)?,
+        (Some(_), None) => {
+            return Err(Error::InvalidArgument(
+                "a trace is checked against hompm's trace of the same steps".into(),
+            ))
+        }
+        _ => TraceComparison::default(),
     };
     let failures: usize = fields.values().map(|f| f.failures).sum();
-    let agrees = failures == 0 && first.is_none();
+    let agrees = failures == 0 && traced.first.is_none();
     let error_ratio = fields
         .get("u")
         .and_then(|f| f.rms_exact)
         .filter(|p| p.hompm > 0.0)
-        .map(|p| p.yours / p.hompm);
-    let verdict = verdict(state, o, &fields, first.as_ref(), agrees, error_ratio);
-    Ok(CheckReport {
-        verdict,
+        .map(|p| saturate(p.yours / p.hompm));
+    let mut report = CheckReport {
+        verdict: String::new(),
         agrees,
         method: state.method.clone(),
         tolerance: *o,
-        particles: n,
+        particles: perm.len(),
         matched_by,
+        compared_fields,
         fields,
-        first_difference: first,
-        compared_equations: compared,
+        ignored_columns: theirs.ignored.clone(),
+        first_difference: traced.first,
+        compared_equations: traced.compared,
+        ignored_equations: traced.ignored,
         error_ratio,
         time: setup.end_time(),
-    })
+    };
+    report.verdict = verdict(&report);
+    Ok(report)
+}
+
+/// The refusal of a file that gives none of [`PHYSICAL_FIELDS`].
+fn nothing_physical(compared: &[String], ignored: &[String], two_d: bool) -> Error {
+    let physical: Vec<&str> = field_columns(two_d)
+        .iter()
+        .filter(|(f, _)| PHYSICAL_FIELDS.contains(f))
+        .flat_map(|(_, c)| c.iter().copied())
+        .collect();
+    let ignored = if ignored.is_empty() {
+        "no other column".to_string()
+    } else {
+        format!("the file's other columns, {}, were ignored", list(ignored))
+    };
+    Error::Input(format!(
+        "nothing of the solution was compared: the file gives {} but none of u, v, stress or F ({}); {ignored}; map yours with --columns, e.g. --columns {}=YOURS",
+        if compared.is_empty() {
+            "no field".to_string()
+        } else {
+            compared.join(", ")
+        },
+        physical.join(", "),
+        physical[0]
+    ))
+}
+
+/// At most ten names, then how many more.
+fn list(names: &[String]) -> String {
+    let shown: Vec<String> = names
+        .iter()
+        .take(10)
+        .map(|n| super::input_json::short(n))
+        .collect();
+    if names.len() > 10 {
+        format!("{} and {} more", shown.join(", "), names.len() - 10)
+    } else {
+        shown.join(", ")
+    }
+}
+
+/// A ratio or difference for a sentence: three digits, in exponent form
+/// when large.
+fn magnitude(x: f64) -> String {
+    if x.abs() == f64::MAX {
+        "more than 1e308".to_string()
+    } else if (1e-3..1e4).contains(&x.abs()) {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
+    }
 }
 
 /// The verdict's sentences.
-fn verdict(
-    state: &State,
-    o: &CheckOptions,
-    fields: &BTreeMap<String, FieldReport>,
-    first: Option<&FirstDifference>,
-    agrees: bool,
-    error_ratio: Option<f64>,
-) -> String {
-    let tolerance = format!("tolerance: relative {:e} or absolute {:e}", o.rtol, o.atol);
+fn verdict(r: &CheckReport) -> String {
+    let o = &r.tolerance;
+    let tolerance = format!(
+        "tolerance: relative {:e}, or absolute {:e} × each field's largest value",
+        o.rtol, o.atol
+    );
+    let fields = r.compared_fields.join(", ");
     let mut lines = Vec::new();
-    if agrees {
-        let rel = fields.values().map(|f| f.max_rel).fold(0.0, f64::max);
-        let abs = fields.values().map(|f| f.max_abs).fold(0.0, f64::max);
+    if r.agrees {
+        let rel = r.fields.values().map(|f| f.max_rel).fold(0.0, f64::max);
+        let abs = r.fields.values().map(|f| f.max_abs).fold(0.0, f64::max);
         let to = if abs == 0.0 {
             "bit for bit".to_string()
         } else {
             format!("to {rel:.1e} relative")
         };
+        let equations = if r.compared_equations.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " and the trace's {} equations at every traced step",
+                r.compared_equations.len()
+            )
+        };
         lines.push(format!(
-            "agrees with hompm's {} {to} ({tolerance})",
-            state.method
+            "agrees with hompm's {} {to} in {fields}{equations} ({tolerance})",
+            r.method
         ));
-    } else if let Some(d) = first {
-        let count = d
-            .count
-            .map(|[y, h]| format!(" (yours has {y} values, hompm {h})"))
-            .unwrap_or_default();
+    } else if let Some(d) = &r.first_difference {
         let component = d
             .component
             .as_ref()
             .map(|c| format!(" ({c})"))
             .unwrap_or_default();
         lines.push(format!(
-            "differs from step {} at {}, {}, {} {}{component}: yours {:e}, hompm {:e}{count} ({tolerance})",
+            "differs from step {} at {}, {}, {} {}{component}: yours {:e}, hompm {:e} ({tolerance})",
             d.step, d.citation, d.quantity, d.index_kind, d.index, d.values.yours, d.values.hompm
         ));
     } else {
-        let worst = fields
+        let worst = r
+            .fields
             .iter()
-            .filter(|(_, f)| f.failures > 0)
-            .max_by(|a, b| a.1.max_rel.total_cmp(&b.1.max_rel));
-        if let Some((name, f)) = worst {
+            .filter_map(|(name, f)| f.worst_failure.as_ref().map(|w| (name, w)))
+            .max_by(|a, b| a.1.times_tolerance.total_cmp(&b.1.times_tolerance));
+        if let Some((name, w)) = worst {
+            let rel = if w.values.hompm != 0.0 {
+                let d = saturate((w.values.yours - w.values.hompm).abs());
+                format!("{} relative", magnitude(saturate(d / w.values.hompm.abs())))
+            } else {
+                "hompm's value is 0".to_string()
+            };
             lines.push(format!(
-                "differs from hompm's {} in {name} at particle {}: yours {:e}, hompm {:e} (largest relative difference {:.1e}; {tolerance}); run `hompm trace` and check the trace to find the equation",
-                state.method, f.worst_particle, f.at_worst.yours, f.at_worst.hompm, f.max_rel
+                "differs from hompm's {} in {name} ({}) at particle {}: yours {:e}, hompm {:e} ({rel}, {}× the tolerance; {tolerance}); run `hompm trace` and check the trace to find the equation",
+                r.method,
+                w.column,
+                w.particle,
+                w.values.yours,
+                w.values.hompm,
+                magnitude(w.times_tolerance)
             ));
         }
-        if first.is_none() {
-            for (name, f) in fields.iter().filter(|(_, f)| f.failures > 0) {
-                lines.push(format!(
-                    "{name}: {} values outside the tolerance, largest difference {:.1e} absolute, {:.1e} relative",
-                    f.failures, f.max_abs, f.max_rel
-                ));
-            }
+        for (name, f) in r.fields.iter().filter(|(_, f)| f.failures > 0) {
+            lines.push(format!(
+                "{name}: {} values outside the tolerance, largest difference {:.1e} absolute, {:.1e} relative",
+                f.failures, f.max_abs, f.max_rel
+            ));
         }
     }
-    if let Some(r) = error_ratio {
+    if !r.ignored_columns.is_empty() {
         lines.push(format!(
-            "your error against the exact solution is {r:.3}× hompm's (RMS of u)"
+            "not compared: your columns {} (not hompm's names; map them with --columns ours=theirs)",
+            list(&r.ignored_columns)
+        ));
+    }
+    if !r.ignored_equations.is_empty() {
+        lines.push(format!(
+            "not compared: your trace's keys {} (not traced by hompm's run of this setup)",
+            list(&r.ignored_equations)
+        ));
+    }
+    if let Some(ratio) = r.error_ratio {
+        lines.push(format!(
+            "your error against the exact solution is {}× hompm's (RMS of u)",
+            magnitude(ratio)
         ));
     }
     lines.join("\n")

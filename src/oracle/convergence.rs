@@ -8,14 +8,22 @@
 //! - [`fit_order`]: the least-squares slope p of log e = a + p log h over
 //!   all resolutions (h = L / cells), with its standard error as the
 //!   spread, and the order of each consecutive pair, log(e₁/e₂)/log(h₁/h₂);
-//! - the verdict per field: *not yet asymptotic* when the pairwise orders
-//!   of the other code differ by more than 0.3 between the last two pairs;
-//!   else the order *holds* when the other code's fitted order is at least
-//!   hompm's minus 0.3, and *falls short* otherwise. The threshold 0.3 is a
-//!   choice (docs/conventions.md, "hompm check").
+//! - the verdict per field: *reference does not converge* when hompm's own
+//!   fitted order, or its order over the last pair, is below
+//!   [`REFERENCE_ORDER_FLOOR`] (its errors do not fall on these grids, so
+//!   no order of the other code can be judged against it); else *not yet
+//!   asymptotic* when the pairwise orders of the other code differ by
+//!   more than 0.3 between the last two pairs; else the order *holds*
+//!   when the other code's fitted order is at least hompm's minus 0.3, and
+//!   *falls short* otherwise. The thresholds are choices
+//!   (docs/conventions.md, "hompm check"). Only *holds* in every field is
+//!   a success (exit 0).
+//!
+//! The resolutions must differ: a repeated one is refused, not fitted.
 //!
 //! Items: [`OrderFit`], [`fit_order`], [`FieldConvergence`],
-//! [`ConvergenceReport`], [`convergence`].
+//! [`ConvergenceReport`], [`convergence`], [`REFERENCE_ORDER_FLOOR`],
+//! [`HOLDS`].
 
 use super::check::{check, CheckOptions};
 use super::input::Input;
@@ -24,6 +32,13 @@ use super::state::State;
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// hompm's order below which the reference is taken not to converge on
+/// the grids given (module docs).
+pub const REFERENCE_ORDER_FLOOR: f64 = 0.5;
+
+/// The one field verdict that is a success.
+pub const HOLDS: &str = "holds";
 
 /// A fitted order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -72,11 +87,16 @@ pub fn fit_order(h: &[f64], e: &[f64]) -> Result<OrderFit> {
     } else {
         0.0
     };
-    let pairwise = x
+    let pairwise: Vec<f64> = x
         .windows(2)
         .zip(y.windows(2))
         .map(|(a, b)| (b[0] - b[1]) / (a[0] - a[1]))
         .collect();
+    if !(order.is_finite() && spread.is_finite() && pairwise.iter().all(|p| p.is_finite())) {
+        return Err(Error::InvalidArgument(
+            "an order needs different resolutions: a pair of them is the same".into(),
+        ));
+    }
     Ok(OrderFit {
         order,
         spread,
@@ -111,10 +131,13 @@ pub struct ConvergenceReport {
 /// The verdict of one field (module docs).
 fn field_verdict(yours: &OrderFit, hompm: &OrderFit) -> &'static str {
     let p = &yours.pairwise;
-    if p.len() >= 2 && (p[p.len() - 1] - p[p.len() - 2]).abs() > 0.3 {
+    let reference_last = hompm.pairwise.last().copied().unwrap_or(hompm.order);
+    if hompm.order < REFERENCE_ORDER_FLOOR || reference_last < REFERENCE_ORDER_FLOOR {
+        "reference does not converge"
+    } else if p.len() >= 2 && (p[p.len() - 1] - p[p.len() - 2]).abs() > 0.3 {
         "not yet asymptotic"
     } else if yours.order >= hompm.order - 0.3 {
-        "holds"
+        HOLDS
     } else {
         "falls short"
     }
@@ -126,6 +149,17 @@ pub fn convergence(
     runs: &[(Setup, State, Input, usize, f64)],
     o: &CheckOptions,
 ) -> Result<ConvergenceReport> {
+    if let Some(w) = runs.windows(2).find(|w| w[0].3 >= w[1].3) {
+        return Err(Error::Input(format!(
+            "the resolutions must be different and ordered coarsest first; {} cells follows {}",
+            w[1].3, w[0].3
+        )));
+    }
+    if runs.len() < 2 {
+        return Err(Error::Input(
+            "an order needs files at two or more resolutions".into(),
+        ));
+    }
     let mut per_field: BTreeMap<String, Vec<[f64; 2]>> = BTreeMap::new();
     let mut h = Vec::new();
     let mut cells = Vec::new();
@@ -156,7 +190,7 @@ pub fn convergence(
         };
         let verdict = field_verdict(&yf, &hf);
         lines.push(format!(
-            "{name}: your order {:.2} ± {:.2} (pairs {}), hompm's {:.2}: {verdict}",
+            "{name}: your order {:.2} ± {:.2} (pairs {}), hompm's {:.2} (pairs {}): {verdict}",
             yf.order,
             yf.spread,
             yf.pairwise
@@ -164,7 +198,12 @@ pub fn convergence(
                 .map(|p| format!("{p:.2}"))
                 .collect::<Vec<_>>()
                 .join(", "),
-            hf.order
+            hf.order,
+            hf.pairwise
+                .iter()
+                .map(|p| format!("{p:.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
         fields.insert(
             name,

@@ -20,9 +20,10 @@
 //! Items: [`ParticleTable`], [`Input`], [`read_input`], [`parse_input`],
 //! [`known_columns`], [`ColumnMap`].
 
-use super::trace::{Trace, TraceStep, TRACE_SCHEMA};
+use super::input_json::short;
+use super::trace::{Trace, TraceStep, TRACE_SCHEMA, TRACE_VERSION};
 use crate::error::{Error, Result};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 
 /// hompm's particle columns in 1D or 2D.
 pub fn known_columns(two_d: bool) -> &'static [&'static str] {
@@ -60,6 +61,9 @@ pub struct ParticleTable {
     pub columns: Vec<(String, Vec<f64>)>,
     /// `# key: value` metadata (CSV) or top-level scalars (JSON).
     pub metadata: BTreeMap<String, String>,
+    /// The file's columns that are not hompm's (not compared), by the
+    /// file's names.
+    pub ignored: Vec<String>,
 }
 
 impl ParticleTable {
@@ -75,23 +79,72 @@ impl ParticleTable {
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, |(_, v)| v.len())
     }
+}
 
-    fn push(&mut self, name: String, values: Vec<f64>) -> Result<()> {
-        if self.columns.iter().any(|(n, _)| *n == name) {
-            return Err(Error::Input(format!("the column '{name}' appears twice")));
+/// Builds a [`ParticleTable`] column by column: a name given twice or a
+/// column of another length is refused, in time linear in the number of
+/// columns.
+#[derive(Debug, Default)]
+pub(crate) struct TableBuilder {
+    table: ParticleTable,
+    names: HashSet<String>,
+    scalars: Vec<String>,
+}
+
+impl TableBuilder {
+    /// Adds a column.
+    pub(crate) fn column(&mut self, name: String, values: Vec<f64>) -> Result<()> {
+        if self.names.contains(&name) {
+            return Err(Error::Input(format!(
+                "the column '{}' appears twice",
+                short(&name)
+            )));
         }
-        if let Some((first, v)) = self.columns.first() {
+        if let Some((first, v)) = self.table.columns.first() {
             if v.len() != values.len() {
                 return Err(Error::Input(format!(
-                    "the column '{name}' has {} values but '{first}' has {}",
+                    "the column '{}' has {} values but '{}' has {}",
+                    short(&name),
                     values.len(),
+                    short(first),
                     v.len()
                 )));
             }
         }
-        self.columns.push((name, values));
+        self.names.insert(name.clone());
+        self.table.columns.push((name, values));
         Ok(())
     }
+
+    /// Adds a metadata entry.
+    pub(crate) fn metadata(&mut self, key: &str, value: String) {
+        self.table.metadata.insert(key.to_string(), value);
+    }
+
+    /// Records a scalar of an object of columns (refused by [`rename`]
+    /// if it stands under one of hompm's column names).
+    pub(crate) fn scalar(&mut self, name: &str) {
+        self.scalars.push(name.to_string());
+    }
+
+    /// The table, any recorded scalars aside.
+    pub(crate) fn into_table(self) -> ParticleTable {
+        self.table
+    }
+
+    pub(crate) fn finish(self) -> ParsedTable {
+        ParsedTable {
+            table: self.table,
+            scalars: self.scalars,
+        }
+    }
+}
+
+/// A table as parsed, before `--columns` renames it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ParsedTable {
+    table: ParticleTable,
+    scalars: Vec<String>,
 }
 
 /// What a file holds.
@@ -103,105 +156,171 @@ pub enum Input {
     Trace(Trace),
 }
 
+/// What a file holds before `--columns` renames its particle columns.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Parsed {
+    Particles(ParsedTable),
+    Trace(Trace),
+}
+
 /// `--columns ours=theirs,…`: hompm's name for each of the file's.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ColumnMap(pub Vec<(String, String)>);
 
 impl ColumnMap {
-    /// Parses `ours=theirs,ours=theirs`.
+    /// Parses `ours=theirs,ours=theirs`. One of hompm's names mapped
+    /// twice, or one of the file's names mapped to two of hompm's, is
+    /// refused: a map that would compare one column as two fields, or drop
+    /// one of two, is never taken.
     pub fn parse(text: &str) -> Result<Self> {
-        let mut out = Vec::new();
+        let mut out: Vec<(String, String)> = Vec::new();
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let Some((ours, theirs)) = pair.split_once('=') else {
                 return Err(Error::Input(format!(
-                    "--columns takes ours=theirs pairs, got '{pair}'"
+                    "--columns takes ours=theirs pairs, got '{}'",
+                    short(pair)
                 )));
             };
-            out.push((ours.trim().to_string(), theirs.trim().to_string()));
+            let (ours, theirs) = (ours.trim().to_string(), theirs.trim().to_string());
+            if ours.is_empty() || theirs.is_empty() {
+                return Err(Error::Input(format!(
+                    "--columns takes ours=theirs pairs with both names, got '{}'",
+                    short(pair)
+                )));
+            }
+            if let Some((o, _)) = out.iter().find(|(_, t)| *t == theirs) {
+                return Err(Error::Input(format!(
+                    "--columns maps your column '{}' to both '{}' and '{}'; one column is one field",
+                    short(&theirs),
+                    short(o),
+                    short(&ours)
+                )));
+            }
+            if let Some((_, t)) = out.iter().find(|(o, _)| *o == ours) {
+                return Err(Error::Input(format!(
+                    "--columns maps both '{}' and '{}' to hompm's '{}'",
+                    short(t),
+                    short(&theirs),
+                    short(&ours)
+                )));
+            }
+            out.push((ours, theirs));
         }
         Ok(Self(out))
     }
 
-    fn ours(&self, theirs: &str) -> String {
+    fn ours<'a>(&'a self, theirs: &'a str) -> &'a str {
         self.0
             .iter()
             .find(|(_, t)| t == theirs)
-            .map_or_else(|| theirs.to_string(), |(o, _)| o.clone())
+            .map_or(theirs, |(o, _)| o.as_str())
     }
 }
 
-/// Reads `path`, refusing by its size, before reading it, a file whose
-/// parsing would need more than `max_memory` bytes
-/// ([`super::INPUT_MEMORY_FACTOR`] per byte of the file).
+/// Reads `path` through a reader that stops at `max_memory /`
+/// [`super::INPUT_MEMORY_FACTOR`] bytes, so that the limit holds for
+/// pipes, devices and FIFOs as for regular files; a regular file over it
+/// is refused by its size before it is read.
 pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
-    let meta = std::fs::metadata(path)
-        .map_err(|e| Error::Input(format!("cannot read {}: {e}", path.display())))?;
-    let needed = meta.len().saturating_mul(super::INPUT_MEMORY_FACTOR);
-    if needed > max_memory {
-        return Err(Error::Input(format!(
-            "{} has {} bytes; reading it needs about {needed} bytes, over the memory limit of {max_memory} bytes (raise --max-memory)",
+    use std::io::Read;
+    let cannot = |e: std::io::Error| Error::Input(format!("cannot read {}: {e}", path.display()));
+    let allowed = max_memory / super::INPUT_MEMORY_FACTOR;
+    let over = |what: String| {
+        Error::Input(format!(
+            "{} has {what}; reading it needs about {} bytes per byte, over the memory limit of {max_memory} bytes (raise --max-memory)",
             path.display(),
+            super::INPUT_MEMORY_FACTOR,
+        ))
+    };
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if meta.is_file() && meta.len() > allowed {
+        return Err(over(format!(
+            "{} bytes (needs about {} bytes)",
             meta.len(),
+            meta.len().saturating_mul(super::INPUT_MEMORY_FACTOR)
         )));
     }
-    std::fs::read_to_string(path)
-        .map_err(|e| Error::Input(format!("cannot read {}: {e}", path.display())))
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let mut bytes = Vec::new();
+    file.take(allowed.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() as u64 > allowed {
+        return Err(over(format!("more than {allowed} bytes")));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        Error::Input(format!(
+            "{} is not UTF-8 text (byte {} is not)",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        ))
+    })
 }
 
 /// Parses a file's text as CSV or JSON (by its first non-blank character),
 /// renaming columns by `map`. Returns the input and the names of the
-/// columns that are not hompm's (ignored, for one warning line).
+/// columns that are not hompm's (not compared; also in
+/// [`ParticleTable::ignored`]).
 pub fn parse_input(text: &str, map: &ColumnMap, two_d: bool) -> Result<(Input, Vec<String>)> {
     let trimmed = text.trim_start();
     if trimmed.is_empty() {
         return Err(Error::Input("the file is empty".into()));
     }
-    let input = if trimmed.starts_with('{') || trimmed.starts_with('[') {
-        parse_json(trimmed)?
+    let parsed = if trimmed.starts_with('{') || trimmed.starts_with('[') {
+        super::input_json::parse_json(trimmed)?
     } else {
         parse_csv(text)?
     };
-    match input {
-        Input::Trace(t) => Ok((Input::Trace(t), Vec::new())),
-        Input::Particles(table) => {
-            let (table, ignored) = rename(table, map, two_d)?;
+    match parsed {
+        Parsed::Trace(t) => Ok((Input::Trace(t), Vec::new())),
+        Parsed::Particles(table) => {
+            let table = rename(table, map, two_d)?;
+            let ignored = table.ignored.clone();
             Ok((Input::Particles(table), ignored))
         }
     }
 }
 
-fn rename(
-    table: ParticleTable,
-    map: &ColumnMap,
-    two_d: bool,
-) -> Result<(ParticleTable, Vec<String>)> {
+fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleTable> {
+    let ParsedTable { table, scalars } = parsed;
     let known = known_columns(two_d);
     for (ours, theirs) in &map.0 {
         if !known.contains(&ours.as_str()) {
             return Err(Error::Input(format!(
-                "--columns maps '{theirs}' to '{ours}', which is not a column of hompm's (known: {})",
+                "--columns maps '{}' to '{}', which is not a column of hompm's (known: {})",
+                short(theirs),
+                short(ours),
                 known.join(", ")
             )));
         }
         if table.column(theirs).is_none() {
             return Err(Error::Input(format!(
-                "--columns names '{theirs}', which the file does not have"
+                "--columns names '{}', which the file does not have as a column",
+                short(theirs)
             )));
         }
     }
-    let mut out = ParticleTable {
-        metadata: table.metadata,
-        ..Default::default()
-    };
+    if let Some(s) = scalars.iter().find(|s| known.contains(&map.ours(s))) {
+        return Err(Error::Input(format!(
+            "'{}' is one number, not a column: hompm's {} is an array with a value per particle",
+            short(s),
+            map.ours(s)
+        )));
+    }
+    let mut out = TableBuilder::default();
+    for (key, value) in table.metadata {
+        out.metadata(&key, value);
+    }
     let mut ignored = Vec::new();
     for (name, values) in table.columns {
         let ours = map.ours(&name);
-        if known.contains(&ours.as_str()) {
-            out.push(ours, values)?;
+        if known.contains(&ours) {
+            out.column(ours.to_string(), values)?;
         } else {
             ignored.push(name);
         }
     }
+    let mut out = out.finish().table;
     if out.columns.is_empty() {
         return Err(Error::Input(format!(
             "the file has none of hompm's columns ({}); map yours with --columns ours=theirs",
@@ -211,31 +330,35 @@ fn rename(
     if out.rows() == 0 {
         return Err(Error::Input("the file has no particles".into()));
     }
-    Ok((out, ignored))
+    out.ignored = ignored;
+    Ok(out)
 }
 
 /// A number from a CSV cell or JSON value, finite, or an error naming where.
 fn number(text: &str, row: usize, column: &str) -> Result<f64> {
     let v: f64 = text.trim().trim_matches('"').parse().map_err(|_| {
         Error::Input(format!(
-            "row {row}, column '{column}': '{}' is not a number",
-            text.trim()
+            "row {row}, column '{}': '{}' is not a number",
+            short(column),
+            short(text.trim())
         ))
     })?;
     finite(v, row, column)
 }
 
-fn finite(v: f64, row: usize, column: &str) -> Result<f64> {
+/// `v`, or an error naming its row and column if it is not finite.
+pub(crate) fn finite(v: f64, row: usize, column: &str) -> Result<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
         Err(Error::Input(format!(
-            "row {row}, column '{column}' is {v}; every value must be finite"
+            "row {row}, column '{}' is {v}; every value must be finite",
+            short(column)
         )))
     }
 }
 
-fn parse_csv(text: &str) -> Result<Input> {
+fn parse_csv(text: &str) -> Result<Parsed> {
     let mut metadata = BTreeMap::new();
     let mut header: Option<Vec<String>> = None;
     let mut rows: Vec<Vec<&str>> = Vec::new();
@@ -246,7 +369,14 @@ fn parse_csv(text: &str) -> Result<Input> {
         }
         if let Some(comment) = line.trim_start().strip_prefix('#') {
             if let Some((k, v)) = comment.split_once(':') {
-                metadata.insert(k.trim().to_string(), v.trim().to_string());
+                let key = k.trim().to_string();
+                if metadata.contains_key(&key) {
+                    return Err(Error::Input(format!(
+                        "the comment line '# {}:' appears twice",
+                        short(&key)
+                    )));
+                }
+                metadata.insert(key, v.trim().to_string());
             }
             continue;
         }
@@ -278,21 +408,34 @@ fn parse_csv(text: &str) -> Result<Input> {
         }
     }
     if header.iter().any(|h| h == "equation") {
-        return csv_trace(&header, &rows, metadata).map(Input::Trace);
+        return csv_trace(&header, &rows, metadata).map(Parsed::Trace);
     }
-    let mut table = ParticleTable {
-        metadata,
-        ..Default::default()
-    };
+    let mut table = TableBuilder::default();
+    for (k, v) in metadata {
+        table.metadata(&k, v);
+    }
     for (c, name) in header.iter().enumerate() {
         let values: Result<Vec<f64>> = rows
             .iter()
             .enumerate()
             .map(|(r, cells)| number(cells[c], r + 1, name))
             .collect();
-        table.push(name.clone(), values?)?;
+        table.column(name.clone(), values?)?;
     }
-    Ok(Input::Particles(table))
+    Ok(Parsed::Particles(table.finish()))
+}
+
+/// A whole number from a trace's `step` or `index` cell.
+fn whole(text: &str, row: usize, column: &str, least: f64) -> Result<usize> {
+    let v = number(text, row, column)?;
+    if v < least || v.fract() != 0.0 || v >= u32::MAX as f64 {
+        return Err(Error::Input(format!(
+            "row {row}: {column} must be a whole number from {least} to {}, got {}",
+            u32::MAX - 1,
+            short(text.trim())
+        )));
+    }
+    Ok(v as usize)
 }
 
 fn csv_trace(
@@ -301,11 +444,16 @@ fn csv_trace(
     metadata: BTreeMap<String, String>,
 ) -> Result<Trace> {
     let col = |name: &str| -> Result<usize> {
-        header.iter().position(|h| h == name).ok_or_else(|| {
-            Error::Input(format!(
+        let mut at = header.iter().enumerate().filter(|(_, h)| *h == name);
+        match (at.next(), at.next()) {
+            (Some((c, _)), None) => Ok(c),
+            (Some(_), Some(_)) => Err(Error::Input(format!(
+                "the column '{name}' appears twice"
+            ))),
+            _ => Err(Error::Input(format!(
                 "a trace in CSV needs the columns step,time,equation,index,value; '{name}' is missing"
-            ))
-        })
+            ))),
+        }
     };
     let (cs, ct, ce, ci, cv) = (
         col("step")?,
@@ -314,38 +462,57 @@ fn csv_trace(
         col("index")?,
         col("value")?,
     );
-    let mut steps: Vec<TraceStep> = Vec::new();
+    if header.len() != 5 {
+        return Err(Error::Input(format!(
+            "a trace in CSV has the columns step,time,equation,index,value and no others; this one has {}",
+            header.len()
+        )));
+    }
+    let mut steps: BTreeMap<usize, TraceStep> = BTreeMap::new();
     for (r, cells) in rows.iter().enumerate() {
         let row = r + 1;
-        let step = number(cells[cs], row, "step")?;
-        let index = number(cells[ci], row, "index")?;
-        if step < 1.0 || step.fract() != 0.0 || index < 0.0 || index.fract() != 0.0 {
-            return Err(Error::Input(format!(
-                "row {row}: step must be a whole number ≥ 1 and index ≥ 0, got {step} and {index}"
-            )));
-        }
-        let (step, index) = (step as usize, index as usize);
+        let step = whole(cells[cs], row, "step", 1.0)?;
+        let index = whole(cells[ci], row, "index", 0.0)?;
         let time = number(cells[ct], row, "time")?;
         let value = number(cells[cv], row, "value")?;
         let key = cells[ce].trim().trim_matches('"').to_string();
-        if steps.last().map(|s| s.step) != Some(step) {
-            steps.push(TraceStep {
-                step,
-                time,
-                equations: BTreeMap::new(),
-            });
+        if key.is_empty() {
+            return Err(Error::Input(format!("row {row}: the equation is empty")));
         }
-        let Some(current) = steps.last_mut() else {
-            continue;
-        };
+        let current = steps.entry(step).or_insert_with(|| TraceStep {
+            step,
+            time,
+            equations: BTreeMap::new(),
+        });
+        if current.time != time {
+            return Err(Error::Input(format!(
+                "row {row}: step {step} has the time {time:e} here and {:e} before",
+                current.time
+            )));
+        }
         let values = current.equations.entry(key.clone()).or_default();
         if index != values.len() {
             return Err(Error::Input(format!(
-                "row {row}: equation {key} at step {step} has index {index} where {} was next",
+                "row {row}: equation {} at step {step} has index {index} where {} was next",
+                short(&key),
                 values.len()
             )));
         }
         values.push(value);
+    }
+    let mut version = TRACE_VERSION;
+    if let Some(v) = metadata.get("version") {
+        version = v
+            .trim()
+            .parse()
+            .ok()
+            .filter(|v| *v <= TRACE_VERSION)
+            .ok_or_else(|| {
+                Error::Input(format!(
+                    "the trace has schema version {}; this hompm reads version {TRACE_VERSION}",
+                    short(v)
+                ))
+            })?;
     }
     let header = metadata
         .into_iter()
@@ -357,114 +524,8 @@ fn csv_trace(
         .collect();
     Ok(Trace {
         schema: TRACE_SCHEMA.into(),
-        version: super::trace::TRACE_VERSION,
+        version,
         header,
-        steps,
+        steps: steps.into_values().collect(),
     })
-}
-
-fn parse_json(text: &str) -> Result<Input> {
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| Error::Input(format!("the file is not valid JSON: {e}")))?;
-    if value.get("schema").and_then(|s| s.as_str()) == Some(TRACE_SCHEMA) {
-        let trace: Trace = serde_json::from_value(value)
-            .map_err(|e| Error::Input(format!("the trace does not follow hompm's schema: {e}")))?;
-        return Ok(Input::Trace(trace));
-    }
-    let mut table = ParticleTable::default();
-    if let Some(obj) = value.as_object() {
-        for (k, v) in obj {
-            if let Some(s) = v.as_str() {
-                table.metadata.insert(k.clone(), s.to_string());
-            } else if v.is_number() {
-                table.metadata.insert(k.clone(), v.to_string());
-            }
-        }
-    }
-    let columns = match (&value, value.get("particles")) {
-        (_, Some(p)) if p.is_object() => p,
-        (serde_json::Value::Object(_), _) => &value,
-        (serde_json::Value::Array(rows), _) => return json_rows(rows, table).map(Input::Particles),
-        _ => {
-            return Err(Error::Input(
-                "the JSON is neither columns nor rows of particles".into(),
-            ))
-        }
-    };
-    let Some(obj) = columns.as_object() else {
-        return Err(Error::Input(
-            "'particles' is not an object of columns".into(),
-        ));
-    };
-    for (name, v) in obj {
-        let Some(items) = v.as_array() else {
-            continue;
-        };
-        json_column(name, items, &mut table)?;
-    }
-    Ok(Input::Particles(table))
-}
-
-/// One JSON column: numbers, or [x, y] pairs, or [xx, xy, yx, yy] rows.
-fn json_column(name: &str, items: &[serde_json::Value], table: &mut ParticleTable) -> Result<()> {
-    let name = if name == "deformation_gradient" {
-        "F"
-    } else {
-        name
-    };
-    let width = match items.first() {
-        Some(serde_json::Value::Array(a)) => a.len(),
-        _ => 0,
-    };
-    let suffixes: &[&str] = match width {
-        0 => &[""],
-        2 => &["_x", "_y"],
-        4 => &["_xx", "_xy", "_yx", "_yy"],
-        w => {
-            return Err(Error::Input(format!(
-            "column '{name}' has entries of {w} numbers; hompm reads numbers, pairs or 2 × 2 rows"
-        )))
-        }
-    };
-    for (c, suffix) in suffixes.iter().enumerate() {
-        let col = format!("{name}{suffix}");
-        let values: Result<Vec<f64>> = items
-            .iter()
-            .enumerate()
-            .map(|(r, item)| {
-                let cell = if width == 0 { Some(item) } else { item.get(c) };
-                match cell.and_then(serde_json::Value::as_f64) {
-                    Some(v) => finite(v, r + 1, &col),
-                    None => Err(Error::Input(format!(
-                        "row {}, column '{col}': {} is not a number",
-                        r + 1,
-                        cell.map_or("nothing".into(), ToString::to_string)
-                    ))),
-                }
-            })
-            .collect();
-        table.push(col, values?)?;
-    }
-    Ok(())
-}
-
-fn json_rows(rows: &[serde_json::Value], mut table: ParticleTable) -> Result<ParticleTable> {
-    let Some(first) = rows.first().and_then(|r| r.as_object()) else {
-        return Err(Error::Input(
-            "the JSON array holds no particle objects".into(),
-        ));
-    };
-    for name in first.keys() {
-        let items: Vec<serde_json::Value> = rows
-            .iter()
-            .enumerate()
-            .map(|(r, row)| {
-                row.get(name)
-                    .cloned()
-                    .ok_or_else(|| Error::Input(format!("row {} has no '{name}'", r + 1)))
-            })
-            .collect::<Result<_>>()?;
-        json_column(name, &items, &mut table)?;
-    }
-    Ok(table)
 }

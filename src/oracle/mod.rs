@@ -14,22 +14,27 @@
 //! - [`equations`]: the traced quantities' keys and citations;
 //! - [`trace`]: the quantities of each numbered equation of the 1D step
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
-//! - [`input`]: the other code's particles or trace, in CSV or JSON;
+//! - [`input`]: the other code's particles or trace, in CSV or JSON,
+//!   read strictly ([`input_json`] for JSON);
 //! - [`state`]: hompm's particles as the check's table, and the matching
 //!   of the other code's particles;
 //! - [`check`](mod@check): the comparison, field by field and equation by
-//!   equation, with a verdict;
+//!   equation, with a verdict, and the rule of when it may say "agrees";
+//! - [`compare`]: the arithmetic of a comparison (tolerances scaled by
+//!   each field's size, overflow-free errors, traces equation by equation);
 //! - [`convergence`](mod@convergence): observed orders over resolutions.
 //!
-//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`state`],
-//! [`check`](mod@check), [`convergence`](mod@convergence),
+//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`state`],
+//! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence),
 //! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
 
 pub mod check;
+pub mod compare;
 pub mod convergence;
 pub mod equations;
 pub mod exact;
 pub mod input;
+pub mod input_json;
 pub mod run;
 pub mod setup;
 pub mod state;

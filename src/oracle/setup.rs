@@ -296,6 +296,27 @@ impl Setup {
     pub fn end_time(&self) -> f64 {
         self.steps() as f64 * self.dt()
     }
+
+    /// The scene names on the command line that give this setup's scene
+    /// (the column answers to both of its loads).
+    pub fn scene_names(&self) -> &'static [&'static str] {
+        match self {
+            Setup::OneD(s) => match s.scene {
+                Scene1d::VibratingBar(_) => &["vibrating-bar"],
+                Scene1d::Column(_) => &["column-self-weight", "column-top-load"],
+            },
+            Setup::TwoD(_) => &["aligned-vibration"],
+        }
+    }
+
+    /// Cells per side and particles per cell (2D: per cell, the square of
+    /// the particles per side), as `hompm run --json` writes them.
+    pub fn cells_and_ppc(&self) -> (usize, usize) {
+        match self {
+            Setup::OneD(s) => (s.discretisation.cells, s.discretisation.ppc),
+            Setup::TwoD(s) => (s.cells, s.per_side * s.per_side),
+        }
+    }
 }
 
 /// Every named parameter set of every scene with its values, as JSON

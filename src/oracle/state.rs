@@ -4,19 +4,38 @@
 //! particles in the check's column names ([`state_1d`], [`state_2d`], or the
 //! last step of a trace, [`state_of_trace`]); [`match_particles`] pairs the
 //! other code's rows with hompm's particles by `id` (0-based; 1..=n read as
-//! 1-based) or by initial position (nearest within a quarter of the
-//! particle spacing), so reordered output works. An unmatched or duplicated
-//! particle is [`Error::Input`] naming it.
+//! 1-based), by initial position (nearest within a quarter of the
+//! particle spacing), so reordered output works, or, when asked, by row
+//! order. Where both id and x0 are given they must agree. An unmatched or
+//! duplicated particle, or an id that contradicts its x0, is
+//! [`Error::Input`] naming the row.
 //!
-//! Items: [`State`], [`state_1d`], [`state_2d`], [`state_of_trace`],
-//! [`match_particles`], [`x0_columns`].
+//! Items: [`State`], [`MatchBy`], [`state_1d`], [`state_2d`],
+//! [`state_of_trace`], [`match_particles`], [`x0_columns`].
 
-use super::check::MatchBy;
-use super::input::ParticleTable;
+use super::input::{ParticleTable, TableBuilder};
 use super::setup::{Setup1d, Setup2d};
-use super::trace::Trace;
+use super::trace::TraceStep;
 use crate::error::{Error, Result};
+use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// How the other code's particles are matched with hompm's
+/// ([`match_particles`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MatchBy {
+    /// By `id` if the file has it, else by initial position; neither is
+    /// refused.
+    #[default]
+    Auto,
+    /// By the `id` column.
+    Id,
+    /// By the initial position (x0, or x0_x and x0_y).
+    X0,
+    /// Row k is hompm's particle k.
+    Order,
+}
 
 /// hompm's particles (and the exact fields at their X) as a table in the
 /// check's column names.
@@ -41,8 +60,36 @@ pub fn x0_columns(two_d: bool) -> &'static [&'static str] {
     }
 }
 
+/// The other code's initial positions, if it gives them: `None` without
+/// them, an error when a 2D file gives one coordinate only.
+fn their_x0(theirs: &ParticleTable, two_d: bool) -> Result<Option<Vec<&[f64]>>> {
+    let names = x0_columns(two_d);
+    let cols: Vec<&[f64]> = names.iter().filter_map(|c| theirs.column(c)).collect();
+    match cols.len() {
+        0 => Ok(None),
+        k if k == names.len() => Ok(Some(cols)),
+        _ => Err(Error::Input(format!(
+            "the file gives only some of {}; give both coordinates or neither",
+            names.join(" and ")
+        ))),
+    }
+}
+
 /// hompm's particle of each of the other code's rows, and how they were
-/// matched.
+/// matched (module docs; docs/oracle.md "Matching"):
+///
+/// - `Auto`: by `id` when the file has it, else by initial position; a
+///   file with neither is refused (`--match order` takes its rows in
+///   hompm's order);
+/// - `Id`: by `id` (0-based; ids 1..=n read as 1-based);
+/// - `X0`: by initial position, nearest within a quarter spacing, any id
+///   column aside;
+/// - `Order`: row k is hompm's particle k.
+///
+/// Where the file gives initial positions and the match is not by them,
+/// every row's x0 must lie within a quarter spacing of its particle's,
+/// or the file is refused: an id that names another particle than its x0
+/// never decides a verdict.
 pub fn match_particles(
     theirs: &ParticleTable,
     ours: &State,
@@ -55,54 +102,96 @@ pub fn match_particles(
             theirs.rows()
         )));
     }
-    let use_id = match by {
-        MatchBy::Id => true,
-        MatchBy::X0 => false,
-        MatchBy::Auto => theirs.column("id").is_some(),
-    };
-    if use_id {
-        let Some(ids) = theirs.column("id") else {
-            return Err(Error::Input("--match id needs an 'id' column".into()));
-        };
-        let one_based = ids.iter().all(|&i| i >= 1.0) && ids.contains(&(n as f64));
-        let mut seen = vec![None; n];
-        let mut perm = Vec::with_capacity(n);
-        for (row, &id) in ids.iter().enumerate() {
-            let k = id - if one_based { 1.0 } else { 0.0 };
-            if k.fract() != 0.0 || k < 0.0 || k >= n as f64 {
-                return Err(Error::Input(format!(
-                    "row {}: id {id} is not a particle of the setup (0..{n})",
-                    row + 1
-                )));
-            }
-            let k = k as usize;
-            if let Some(other) = seen[k] {
-                return Err(Error::Input(format!(
-                    "rows {other} and {} both have id {id}",
-                    row + 1
-                )));
-            }
-            seen[k] = Some(row + 1);
-            perm.push(k);
-        }
-        let how = if one_based { "id (1-based)" } else { "id" };
-        return Ok((perm, how.into()));
-    }
-    let names = x0_columns(ours.two_d);
-    let cols: Vec<&[f64]> = names.iter().filter_map(|c| theirs.column(c)).collect();
-    if cols.len() != names.len() {
-        if by == MatchBy::X0 {
+    let x0 = their_x0(theirs, ours.two_d)?;
+    let ids = theirs.column("id");
+    let (perm, how) = match (by, ids, &x0) {
+        (MatchBy::X0, _, Some(x0)) => (by_position(x0, ours)?, "x0"),
+        (MatchBy::X0, _, None) => {
             return Err(Error::Input(format!(
                 "--match x0 needs the column(s) {}",
-                names.join(", ")
+                x0_columns(ours.two_d).join(", ")
+            )))
+        }
+        (MatchBy::Id | MatchBy::Auto, Some(ids), _) => by_id(ids, n)?,
+        (MatchBy::Id, None, _) => {
+            return Err(Error::Input("--match id needs an 'id' column".into()))
+        }
+        (MatchBy::Auto, None, Some(x0)) => (by_position(x0, ours)?, "x0"),
+        (MatchBy::Order, _, _) => ((0..n).collect(), "order (--match order)"),
+        (MatchBy::Auto, None, None) => {
+            return Err(Error::Input(format!(
+                "the file has neither an 'id' nor {}: its particles cannot be matched with hompm's; add one, or give --match order to take its rows in hompm's order",
+                x0_columns(ours.two_d).join(" and ")
+            )))
+        }
+    };
+    if let (Some(x0), false) = (&x0, how == "x0") {
+        agree_with_x0(x0, ours, &perm, how)?;
+    }
+    Ok((perm, how.into()))
+}
+
+/// By `id`: 0-based, or 1-based when every id is at least 1 and n occurs.
+fn by_id(ids: &[f64], n: usize) -> Result<(Vec<usize>, &'static str)> {
+    let one_based = ids.iter().all(|&i| i >= 1.0) && ids.contains(&(n as f64));
+    let mut seen = vec![None; n];
+    let mut perm = Vec::with_capacity(n);
+    for (row, &id) in ids.iter().enumerate() {
+        let k = id - if one_based { 1.0 } else { 0.0 };
+        if k.fract() != 0.0 || k < 0.0 || k >= n as f64 {
+            return Err(Error::Input(format!(
+                "row {}: id {id} is not a particle of the setup (0..{n})",
+                row + 1
             )));
         }
-        return Ok(((0..n).collect(), "order (no id or x0 column)".into()));
+        let k = k as usize;
+        if let Some(other) = seen[k] {
+            return Err(Error::Input(format!(
+                "rows {other} and {} both have id {id}",
+                row + 1
+            )));
+        }
+        seen[k] = Some(row + 1);
+        perm.push(k);
     }
-    let ours_cols: Vec<&[f64]> = names
+    Ok((perm, if one_based { "id (1-based)" } else { "id" }))
+}
+
+/// Every row's x0 within a quarter spacing of its matched particle's.
+fn agree_with_x0(x0: &[&[f64]], ours: &State, perm: &[usize], how: &str) -> Result<()> {
+    let ours_cols = our_x0(ours);
+    let quarter = 0.25 * ours.spacing;
+    for (row, &k) in perm.iter().enumerate() {
+        let d2: f64 = ours_cols
+            .iter()
+            .zip(x0)
+            .map(|(o, t)| (o[k] - t[row]).powi(2))
+            .sum();
+        if d2.sqrt() > quarter || d2.is_nan() {
+            return Err(Error::Input(format!(
+                "row {}: matched by {how} to hompm's particle {k} at {:?}, but its x0 is {:?}, more than a quarter spacing ({quarter:e}) away; if your ids are not hompm's numbering, give --match x0",
+                row + 1,
+                ours_cols.iter().map(|c| c[k]).collect::<Vec<_>>(),
+                x0.iter().map(|c| c[row]).collect::<Vec<_>>(),
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// hompm's initial-position columns.
+fn our_x0(ours: &State) -> Vec<&[f64]> {
+    x0_columns(ours.two_d)
         .iter()
         .filter_map(|c| ours.particles.column(c))
-        .collect();
+        .collect()
+}
+
+/// By initial position: the nearest of hompm's particles within a quarter
+/// spacing, each taken once.
+fn by_position(cols: &[&[f64]], ours: &State) -> Result<Vec<usize>> {
+    let n = ours.particles.rows();
+    let ours_cols = our_x0(ours);
     let s = ours.spacing;
     let key = |p: &[f64]| -> (i64, i64) {
         let kx = (p[0] / s).floor() as i64;
@@ -155,73 +244,101 @@ pub fn match_particles(
             }
         }
     }
-    Ok((perm, "x0".into()))
+    Ok(perm)
 }
 
-/// The final particle state a trace's last step holds (id = index).
-pub fn state_of_trace(trace: &Trace) -> Option<ParticleTable> {
-    let last = trace.steps.last()?;
-    let get = |k: &str| last.equations.get(k).cloned();
-    if let (Some(x), Some(u)) = (get("mls-30"), get("mls-30-u")) {
-        return Some(state_of_trace_2d(&x, &u, &get));
+/// The values of `key` at a trace's final step, which must hold
+/// `width` per particle, or an error naming the key and both counts.
+fn traced<'a>(
+    step: &'a TraceStep,
+    key: &str,
+    particles: usize,
+    width: usize,
+) -> Result<Option<&'a [f64]>> {
+    let Some(v) = step.equations.get(key) else {
+        return Ok(None);
+    };
+    if v.len() != particles * width {
+        return Err(Error::Input(format!(
+            "step {}, {key}: your trace has {} values; the setup's {particles} particles need {}",
+            step.step,
+            v.len(),
+            particles * width
+        )));
     }
-    let (x, u) = (get("book-4.13")?, get("book-4.12")?);
-    let mut t = ParticleTable::default();
-    let x0: Vec<f64> = x.iter().zip(&u).map(|(x, u)| x - u).collect();
-    t.columns
-        .push(("id".into(), (0..x.len()).map(|k| k as f64).collect()));
-    t.columns.push(("x0".into(), x0));
-    t.columns.push(("x".into(), x));
-    t.columns.push(("u".into(), u));
-    for (key, name) in [
-        ("book-4.9", "v"),
-        ("book-4.15", "stress"),
-        ("book-4.16", "stress"),
-        ("book-4.17", "volume"),
-        ("book-4.18", "density"),
-    ] {
-        if let Some(v) = get(key) {
-            if v.len() == t.rows() {
-                t.columns.push((name.into(), v));
-            }
-        }
-    }
-    Some(t)
+    Ok(Some(v))
 }
 
-fn state_of_trace_2d(
-    x: &[f64],
-    u: &[f64],
-    get: &dyn Fn(&str) -> Option<Vec<f64>>,
-) -> ParticleTable {
-    let n = x.len() / 2;
-    let mut t = ParticleTable::default();
-    let col =
-        |v: &[f64], c: usize, w: usize| -> Vec<f64> { (0..n).map(|k| v[k * w + c]).collect() };
-    t.columns
-        .push(("id".into(), (0..n).map(|k| k as f64).collect()));
+/// The final particle state a trace's final step holds (id = index), for
+/// a setup of `particles` particles: positions and displacements (book
+/// Eqs. 4.12–4.13; MLS paper Eq. 30) are required, every other particle
+/// quantity is taken where given, and every one must have a value (2D: a
+/// pair or a 2 × 2 row) per particle.
+pub fn state_of_trace(step: &TraceStep, particles: usize, two_d: bool) -> Result<ParticleTable> {
+    let (x_key, u_key) = if two_d {
+        ("mls-30", "mls-30-u")
+    } else {
+        ("book-4.13", "book-4.12")
+    };
+    let width = if two_d { 2 } else { 1 };
+    let (Some(x), Some(u)) = (
+        traced(step, x_key, particles, width)?,
+        traced(step, u_key, particles, width)?,
+    ) else {
+        return Err(Error::Input(format!(
+            "the trace's final step {} has no particle positions and displacements ({x_key}, {u_key}); they are its final state",
+            step.step
+        )));
+    };
+    let mut t = TableBuilder::default();
+    t.column("id".into(), (0..particles).map(|k| k as f64).collect())?;
     let x0: Vec<f64> = x.iter().zip(u).map(|(x, u)| x - u).collect();
-    for (name, v) in [("x0", &x0[..]), ("x", x), ("u", u)] {
-        t.columns.push((format!("{name}_x"), col(v, 0, 2)));
-        t.columns.push((format!("{name}_y"), col(v, 1, 2)));
-    }
-    if let Some(v) = get("mls-29").filter(|v| v.len() == 2 * n) {
-        t.columns.push(("v_x".into(), col(&v, 0, 2)));
-        t.columns.push(("v_y".into(), col(&v, 1, 2)));
-    }
-    for (key, name) in [("mls-35", "F"), ("mls-41", "stress")] {
-        if let Some(v) = get(key).filter(|v| v.len() == 4 * n) {
-            for (c, suffix) in ["xx", "xy", "yx", "yy"].iter().enumerate() {
-                t.columns.push((format!("{name}_{suffix}"), col(&v, c, 4)));
+    let split = |v: &[f64], c: usize, w: usize| -> Vec<f64> {
+        v.iter().skip(c).step_by(w).copied().collect()
+    };
+    if two_d {
+        for (name, v) in [("x0", &x0[..]), ("x", x), ("u", u)] {
+            t.column(format!("{name}_x"), split(v, 0, 2))?;
+            t.column(format!("{name}_y"), split(v, 1, 2))?;
+        }
+        if let Some(v) = traced(step, "mls-29", particles, 2)? {
+            t.column("v_x".into(), split(v, 0, 2))?;
+            t.column("v_y".into(), split(v, 1, 2))?;
+        }
+        for (key, name) in [("mls-35", "F"), ("mls-41", "stress")] {
+            if let Some(v) = traced(step, key, particles, 4)? {
+                for (c, suffix) in ["xx", "xy", "yx", "yy"].iter().enumerate() {
+                    t.column(format!("{name}_{suffix}"), split(v, c, 4))?;
+                }
+            }
+        }
+        for (key, name) in [("mls-36", "volume"), ("mls-37", "density")] {
+            if let Some(v) = traced(step, key, particles, 1)? {
+                t.column(name.into(), v.to_vec())?;
+            }
+        }
+    } else {
+        t.column("x0".into(), x0)?;
+        t.column("x".into(), x.to_vec())?;
+        t.column("u".into(), u.to_vec())?;
+        for (key, name) in [
+            ("book-4.9", "v"),
+            ("book-4.15", "stress"),
+            ("book-4.16", "stress"),
+            ("book-4.17", "volume"),
+            ("book-4.18", "density"),
+        ] {
+            if let Some(v) = traced(step, key, particles, 1)? {
+                t.column(name.into(), v.to_vec()).map_err(|_| {
+                    Error::Input(format!(
+                        "step {}: the trace has both book-4.15 and book-4.16; a step updates the stress by one of them",
+                        step.step
+                    ))
+                })?;
             }
         }
     }
-    for (key, name) in [("mls-36", "volume"), ("mls-37", "density")] {
-        if let Some(v) = get(key).filter(|v| v.len() == n) {
-            t.columns.push((name.into(), v));
-        }
-    }
-    t
+    Ok(t.into_table())
 }
 
 /// hompm's final 1D state as a check table.

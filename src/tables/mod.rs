@@ -162,7 +162,9 @@ pub struct TableReport {
     /// Whether each computed value, rounded to the published value's
     /// printed significant digits, equals it; `None` where nothing is
     /// compared or the kind has no digits to match (bounds, timings,
-    /// machine-precision noise; [`digits_apply`]).
+    /// machine-precision noise; [`digits_apply`]). In JSON each entry is
+    /// `"yes"`, `"no"` or `"n/a"`, never `null`.
+    #[serde(serialize_with = "digits_as_words")]
     pub to_digits: Vec<Vec<Option<bool>>>,
     /// Tolerance per entry.
     pub tolerance: Vec<Vec<Tolerance>>,
@@ -172,6 +174,26 @@ pub struct TableReport {
     /// `tls-8`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub study: Option<Study>,
+}
+
+/// `to_digits` in JSON: `"yes"`, `"no"` or `"n/a"` per entry.
+fn digits_as_words<S: serde::Serializer>(
+    rows: &[Vec<Option<bool>>],
+    serializer: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    let words: Vec<Vec<&str>> = rows
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|d| match d {
+                    Some(true) => "yes",
+                    Some(false) => "no",
+                    None => "n/a",
+                })
+                .collect()
+        })
+        .collect();
+    serde::Serialize::serialize(&words, serializer)
 }
 
 impl TableReport {
