@@ -18,12 +18,14 @@ use crate::error::{Error, Result};
 use crate::mpm::particles::Particles;
 use crate::mpm2d::Particles2d;
 use crate::oracle::check::{check as compare, CheckOptions, MatchBy};
+use crate::oracle::compare::sci;
 use crate::oracle::convergence::convergence;
 use crate::oracle::exact::{exact_1d, exact_2d, formulas_1d, formulas_2d, reference_kind};
 use crate::oracle::input::{parse_input, read_input, ColumnMap, Input};
 use crate::oracle::run::{reference, trace_1d, trace_2d};
 use crate::oracle::setup::{Setup, Setup1d};
 use crate::oracle::trace::{header_1d, header_2d, Trace, EQUATIONS_1D, EQUATIONS_2D};
+use crate::oracle::visibility::time_resolution;
 use clap::ValueEnum;
 use std::path::PathBuf;
 
@@ -448,7 +450,13 @@ pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
         Input::Particles(_) => None,
     };
     let (state, ours) = reference(&setup, only)?;
-    let report = compare(&setup, &state, &input, ours.as_ref(), &options)?;
+    let mut report = compare(&setup, &state, &input, ours.as_ref(), &options)?;
+    if report.agrees && matches!(input, Input::Particles(_)) {
+        let compared = report.compared_columns();
+        if let Some(r) = time_resolution(&setup, &state, &compared, &options.tolerance())? {
+            report = report.with_time_resolution(r);
+        }
+    }
     let mut warnings = Vec::new();
     if !ignored.is_empty() {
         let shown: Vec<&str> = ignored.iter().take(10).map(String::as_str).collect();
@@ -500,11 +508,15 @@ fn report_text(r: &crate::oracle::check::CheckReport) -> String {
             continue;
         };
         let (ry, rh) = f.rms_exact.map_or(("-".into(), "-".into()), |p| {
-            (format!("{:.4e}", p.yours), format!("{:.4e}", p.hompm))
+            (sci(p.yours, 4), sci(p.hompm, 4))
         });
         out.push_str(&format!(
-            "{name:<8} {:>10.3e} {:>10.3e} {:>10.3e} {:>9} {:>9} {ry:>12} {rh:>12}\n",
-            f.max_abs, f.max_rel, f.atol_abs, f.worst_particle, f.failures
+            "{name:<8} {:>10} {:>10} {:>10} {:>9} {:>9} {ry:>12} {rh:>12}\n",
+            sci(f.max_abs, 3),
+            sci(f.max_rel, 3),
+            sci(f.atol_abs, 3),
+            f.worst_particle,
+            f.failures
         ));
     }
     if let Some(d) = &r.first_difference {

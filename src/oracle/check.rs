@@ -43,20 +43,24 @@
 //!
 //! Items: [`check`], [`CheckOptions`], [`MatchBy`], [`CheckReport`],
 //! [`FieldReport`], [`Pair`], [`ValueAt`], [`FirstDifference`]
-//! (re-exported from `oracle::compare`), [`check_header`], [`check_metadata`],
+//! (re-exported from `oracle::compare`), [`check_header`], [`check_metadata`]
+//! (from `oracle::provenance`),
 //! [`DEFAULT_RTOL`], [`DEFAULT_ATOL`], [`PHYSICAL_FIELDS`],
 //! [`field_columns`].
 
 use super::compare::{
-    compare_field, exact_errors, first_difference, saturate, Tolerance, TraceComparison,
+    compare_field, exact_errors, first_difference, saturate, sci, Tolerance, TraceComparison,
 };
-pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt};
+pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt, PHYSICAL_FIELDS};
 use super::exact::{exact_1d, exact_2d};
 use super::input::Input;
+use super::provenance::check_steps;
+pub use super::provenance::{check_header, check_metadata};
 use super::setup::Setup;
 pub use super::state::MatchBy;
 use super::state::{match_particles, state_of_trace, x0_columns, State};
-use super::trace::{Equation, Trace, TraceStep, EQUATIONS_1D, EQUATIONS_2D};
+use super::trace::{Equation, Trace, EQUATIONS_1D, EQUATIONS_2D};
+use super::visibility::TimeResolution;
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -66,11 +70,6 @@ pub const DEFAULT_RTOL: f64 = 1e-9;
 /// The default absolute tolerance, as a fraction of the field's scale
 /// (module docs).
 pub const DEFAULT_ATOL: f64 = 1e-12;
-
-/// The fields of which `check` must compare at least one to say
-/// "agrees": the solution itself, not the positions or the volumes
-/// that follow from it.
-pub const PHYSICAL_FIELDS: [&str; 4] = ["u", "v", "stress", "F"];
 
 /// What a check is asked to do.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -139,6 +138,28 @@ pub struct CheckReport {
     pub error_ratio: Option<f64>,
     /// The time the exact solution is evaluated at, steps × Δt.
     pub time: f64,
+    /// What the tolerance can see at this Δt (an agreeing check of final
+    /// particles; `oracle::visibility`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_resolution: Option<TimeResolution>,
+}
+
+impl CheckReport {
+    /// The compared fields with their columns.
+    pub fn compared_columns(&self) -> Vec<(String, Vec<String>)> {
+        self.compared_fields
+            .iter()
+            .filter_map(|f| Some((f.clone(), self.fields.get(f)?.columns.clone())))
+            .collect()
+    }
+
+    /// Adds what the tolerance can see to the report and its verdict.
+    pub fn with_time_resolution(mut self, r: TimeResolution) -> Self {
+        self.verdict.push('\n');
+        self.verdict.push_str(&r.sentence);
+        self.time_resolution = Some(r);
+        self
+    }
 }
 
 /// The fields and their columns, in the order a report lists them.
@@ -210,129 +231,6 @@ fn exact_columns(setup: &Setup, x0: &[Vec<f64>]) -> Result<BTreeMap<&'static str
         }
     }
     Ok(out)
-}
-
-/// Checks a trace's header against hompm's: every setting both name must
-/// agree (numbers to 1e-12 relative).
-pub fn check_header(
-    theirs: &BTreeMap<String, serde_json::Value>,
-    ours: &BTreeMap<String, serde_json::Value>,
-) -> Result<()> {
-    fn same(
-        a: &serde_json::Value,
-        b: &serde_json::Value,
-        path: &str,
-    ) -> std::result::Result<(), String> {
-        use serde_json::Value as V;
-        match (a, b) {
-            (V::Number(x), V::Number(y)) => {
-                let (x, y) = (
-                    x.as_f64().unwrap_or(f64::NAN),
-                    y.as_f64().unwrap_or(f64::NAN),
-                );
-                if (x - y).abs() <= 1e-12 * x.abs().max(y.abs()) {
-                    Ok(())
-                } else {
-                    Err(format!("{path}: yours {x}, hompm's {y}"))
-                }
-            }
-            (V::Object(x), V::Object(y)) => {
-                for (k, v) in x {
-                    if let Some(w) = y.get(k) {
-                        same(v, w, &format!("{path}.{k}"))?;
-                    }
-                }
-                Ok(())
-            }
-            _ if a == b => Ok(()),
-            _ => Err(format!("{path}: yours {a}, hompm's {b}")),
-        }
-    }
-    for (k, v) in theirs {
-        if k == "every" || k == "hompm" {
-            continue;
-        }
-        if let Some(w) = ours.get(k) {
-            same(v, w, k).map_err(|m| {
-                Error::Input(format!(
-                    "the trace's header names other settings than this check's ({m}); give the same options"
-                ))
-            })?;
-        }
-    }
-    Ok(())
-}
-
-/// Checks the metadata a file names (`# key: value` lines, or a JSON
-/// document's top-level scalars) against the setup: `scene`, `cells`,
-/// `ppc`, `steps`, `dt` and `time`, where given, must be the setup's
-/// (numbers to 1e-12 relative). A file of another run is refused, not
-/// compared.
-pub fn check_metadata(metadata: &BTreeMap<String, String>, setup: &Setup) -> Result<()> {
-    let refuse = |key: &str, theirs: &str, ours: String| {
-        Error::Input(format!(
-            "the file says {key} = {}, this check's setup has {ours}; give the options of the run that wrote it",
-            super::input_json::short(theirs)
-        ))
-    };
-    if let Some(scene) = metadata.get("scene") {
-        let names = setup.scene_names();
-        if !names.contains(&scene.trim_matches('"')) {
-            return Err(refuse("scene", scene, names.join(" or ")));
-        }
-    }
-    let (cells, ppc) = setup.cells_and_ppc();
-    let numbers = [
-        ("cells", cells as f64),
-        ("ppc", ppc as f64),
-        ("steps", setup.steps() as f64),
-        ("dt", setup.dt()),
-        ("time", setup.end_time()),
-    ];
-    for (key, ours) in numbers {
-        let Some(text) = metadata.get(key) else {
-            continue;
-        };
-        let theirs: f64 = text.trim_matches('"').trim().parse().map_err(|_| {
-            Error::Input(format!(
-                "the file's {key} '{}' is not a number",
-                super::input_json::short(text)
-            ))
-        })?;
-        if (theirs - ours).abs() > 1e-12 * ours.abs().max(theirs.abs()) || theirs.is_nan() {
-            return Err(refuse(key, text, format!("{ours}")));
-        }
-    }
-    Ok(())
-}
-
-/// A trace's steps checked against a run of `steps` steps: each in
-/// 1..=steps, in order, none twice, the last one the run's last.
-fn check_steps(trace: &Trace, steps: usize) -> Result<&TraceStep> {
-    let mut previous = 0;
-    for s in &trace.steps {
-        if s.step == 0 || s.step > steps {
-            return Err(Error::Input(format!(
-                "the trace has step {}; the run has steps 1 to {steps}",
-                s.step
-            )));
-        }
-        if s.step <= previous {
-            return Err(Error::Input(format!(
-                "the trace has step {} after step {previous}; steps are ordered by number and given once",
-                s.step
-            )));
-        }
-        previous = s.step;
-    }
-    match trace.steps.last() {
-        Some(last) if last.step == steps => Ok(last),
-        Some(last) => Err(Error::Input(format!(
-            "the trace ends at step {}; its last step must be the run's last, {steps}, whose particles are compared as the final state",
-            last.step
-        ))),
-        None => Err(Error::Input("the trace has no steps".into())),
-    }
 }
 
 /// Compares `input` (the other code's particles or trace) with hompm's
@@ -452,6 +350,7 @@ pub fn check(
         ignored_equations: traced.ignored,
         error_ratio,
         time: setup.end_time(),
+        time_resolution: None,
     };
     report.verdict = verdict(&report);
     Ok(report)
@@ -503,7 +402,7 @@ fn magnitude(x: f64) -> String {
     } else if (1e-3..1e4).contains(&x.abs()) {
         format!("{x:.3}")
     } else {
-        format!("{x:.3e}")
+        sci(x, 3)
     }
 }
 
@@ -522,7 +421,7 @@ fn verdict(r: &CheckReport) -> String {
         let to = if abs == 0.0 {
             "bit for bit".to_string()
         } else {
-            format!("to {rel:.1e} relative")
+            format!("to {} relative", sci(rel, 1))
         };
         let equations = if r.compared_equations.is_empty() {
             String::new()
@@ -571,8 +470,10 @@ fn verdict(r: &CheckReport) -> String {
         }
         for (name, f) in r.fields.iter().filter(|(_, f)| f.failures > 0) {
             lines.push(format!(
-                "{name}: {} values outside the tolerance, largest difference {:.1e} absolute, {:.1e} relative",
-                f.failures, f.max_abs, f.max_rel
+                "{name}: {} values outside the tolerance, largest difference {} absolute, {} relative",
+                f.failures,
+                sci(f.max_abs, 1),
+                sci(f.max_rel, 1)
             ));
         }
     }

@@ -17,13 +17,19 @@
 //!
 //! Items: [`Tolerance`], [`Pair`], [`ValueAt`], [`FieldReport`],
 //! [`FirstDifference`], [`TraceComparison`], [`compare_field`],
-//! [`exact_errors`], [`first_difference`], [`saturate`], [`scale_of`].
+//! [`exact_errors`], [`first_difference`], [`saturate`], [`scale_of`],
+//! [`sci`], [`PHYSICAL_FIELDS`].
 
 use super::input::ParticleTable;
 use super::trace::{Equation, Trace};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// The fields of which `check` must compare at least one to say
+/// "agrees": the solution itself, not the positions or the volumes
+/// that follow from it.
+pub const PHYSICAL_FIELDS: [&str; 4] = ["u", "v", "stress", "F"];
 
 /// The tolerance rule: a value fails when |d| > atol·scale and
 /// |d| > rtol·|hompm| (`oracle::check`'s module docs).
@@ -64,6 +70,18 @@ pub fn saturate(x: f64) -> f64 {
         f64::MAX.copysign(x)
     } else {
         x
+    }
+}
+
+/// `x` in exponent form with `digits` decimals, never a text that reads
+/// back as ±∞: a value that rounds past the largest double is written in
+/// full ([`f64::MAX`] prints as 1.7976931348623157e308).
+pub fn sci(x: f64, digits: usize) -> String {
+    let text = format!("{x:.digits$e}");
+    if text.parse::<f64>().is_ok_and(f64::is_finite) {
+        text
+    } else {
+        format!("{x:e}")
     }
 }
 

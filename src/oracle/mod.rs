@@ -16,16 +16,18 @@
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
 //! - [`input`]: the other code's particles or trace, in CSV or JSON,
 //!   read strictly ([`input_json`] for JSON);
+//! - [`provenance`]: whether a file is of the run it is compared with;
 //! - [`state`]: hompm's particles as the check's table, and the matching
 //!   of the other code's particles;
 //! - [`check`](mod@check): the comparison, field by field and equation by
 //!   equation, with a verdict, and the rule of when it may say "agrees";
 //! - [`compare`]: the arithmetic of a comparison (tolerances scaled by
 //!   each field's size, overflow-free errors, traces equation by equation);
-//! - [`convergence`](mod@convergence): observed orders over resolutions.
+//! - [`convergence`](mod@convergence): observed orders over resolutions;
+//! - [`visibility`]: what the tolerance can see at a check's Δt.
 //!
-//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`state`],
-//! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence),
+//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`provenance`], [`state`],
+//! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
 //! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
 
 pub mod check;
@@ -35,10 +37,12 @@ pub mod equations;
 pub mod exact;
 pub mod input;
 pub mod input_json;
+pub mod provenance;
 pub mod run;
 pub mod setup;
 pub mod state;
 pub mod trace;
+pub mod visibility;
 
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use crate::scenes::Discretisation;

@@ -683,3 +683,83 @@ fn a_file_of_another_run_is_refused_by_its_metadata() {
     let csv = format!("# dt: 1e-4\n{}", particles_csv(SETUP_1D));
     check(SETUP_1D, "meta.csv", &csv, &[]).refused("the file says dt = 1e-4");
 }
+
+#[test]
+fn an_agreeing_check_says_how_small_a_first_order_difference_in_dt_it_can_see() {
+    // The bar on 16 cells, 20 steps of 1e-3 s: hompm's own first-order
+    // time error, measured from a second run at 2e-3 s, written out here.
+    let setup = [
+        "vibrating-bar",
+        "--cells",
+        "16",
+        "--dt",
+        "1e-3",
+        "--steps",
+        "20",
+    ];
+    let fine = doc("run", &setup);
+    let coarse = doc(
+        "run",
+        &[
+            "vibrating-bar",
+            "--cells",
+            "16",
+            "--dt",
+            "2e-3",
+            "--steps",
+            "10",
+        ],
+    );
+    let column = |d: &Value, c: &str| -> Vec<f64> {
+        d["particles"][c]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    let (v, v2) = (column(&fine, "v"), column(&coarse, "v"));
+    let change = v
+        .iter()
+        .zip(&v2)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let scale = v.iter().map(|a| a.abs()).fold(0.0, f64::max);
+    // Δt' − Δt = Δt: E = change, e = change/scale.
+    let own = change / scale;
+    let out = check(&setup, "res.json", &text(&fine), &["--json"]).agrees();
+    let r: Value = serde_json::from_str(&out).unwrap();
+    let res = &r["time_resolution"];
+    assert_eq!(res["coarse_dt"].as_f64().unwrap(), 2e-3);
+    let got = res["fields"]["v"]["own_error"].as_f64().unwrap();
+    assert!((got - own).abs() <= 1e-12 * own, "{got} {own}");
+    assert!(
+        (res["fields"]["v"]["fraction_of_own_error"]
+            .as_f64()
+            .unwrap()
+            - 1e-9 / own)
+            .abs()
+            <= 1e-12
+    );
+    assert!(
+        r["verdict"]
+            .as_str()
+            .unwrap()
+            .contains("of hompm's own time error"),
+        "{out}"
+    );
+    // A tolerance that lets through more than hompm's own time error: the
+    // check says it cannot see a first-order difference.
+    let loose = check(
+        &setup,
+        "res.json",
+        &text(&fine),
+        &["--rtol", "1", "--atol", "1"],
+    )
+    .agrees();
+    assert!(
+        loose.contains("warning: at Δt = 1e-3 a difference of first order in Δt"),
+        "{loose}"
+    );
+    assert!(loose.contains("cannot see it"), "{loose}");
+}

@@ -401,3 +401,158 @@ proptest! {
         }
     }
 }
+
+/// hompm's own output for the derived fuzz: a 1D run and its trace (the
+/// bar on 4 cells × 2 PPC, 5 steps of 1e-3 s), as JSON values.
+fn derived_bases() -> &'static (serde_json::Value, serde_json::Value) {
+    static BASES: std::sync::OnceLock<(serde_json::Value, serde_json::Value)> =
+        std::sync::OnceLock::new();
+    BASES.get_or_init(|| {
+        let setup = "vibrating-bar --cells 4 --ppc 2 --dt 1e-3 --steps 5 --json";
+        let get = |command: &str| -> serde_json::Value {
+            let args: Vec<&str> = std::iter::once(command).chain(setup.split(' ')).collect();
+            serde_json::from_str(&cli::run(&args).unwrap().stdout).unwrap()
+        };
+        (get("run"), get("trace"))
+    })
+}
+
+/// A mutation of hompm's valid output that must never be called "agrees"
+/// (issue #35's families): a value of the wrong type, a key given twice,
+/// a quantity of another length at some step, a step renumbered, an x0
+/// or id that contradicts the other, a huge finite value, a value changed
+/// by 1e-6 relative. Returns the file's text.
+fn derived_mutation(family: u8, at: usize, pick: usize) -> String {
+    use serde_json::json;
+    let (run, trace) = derived_bases();
+    let text = |v: &serde_json::Value| serde_json::to_string(v).unwrap();
+    let columns = ["x0", "x", "u", "v", "stress", "volume", "density"];
+    let column = columns[at % columns.len()];
+    let bad = [
+        json!(null),
+        json!("x"),
+        json!(1.5),
+        json!({}),
+        json!(true),
+        json!([1.0, 2.0]),
+    ];
+    let keys = [
+        "book-4.5",
+        "book-4.9",
+        "book-4.10",
+        "book-4.12",
+        "book-4.13",
+        "book-4.17",
+    ];
+    let key = keys[at % keys.len()];
+    let step = at % 5;
+    match family % 8 {
+        0 => {
+            let mut d = run.clone();
+            d["particles"][column] = bad[pick % bad.len()].clone();
+            text(&d)
+        }
+        1 => {
+            let mut d = run.clone();
+            d["particles"][column][pick % 8] = bad[pick % bad.len()].clone();
+            text(&d)
+        }
+        2 => {
+            // A key given twice, with another value: in particles, in the
+            // header, in a step.
+            let s = text(if pick.is_multiple_of(2) { run } else { trace });
+            let needle = if pick.is_multiple_of(2) {
+                format!("\"{column}\":[")
+            } else {
+                format!("\"{key}\":[")
+            };
+            s.replacen(
+                &needle,
+                &format!("\"{}\":[0],{needle}", &needle[1..needle.len() - 3]),
+                1,
+            )
+        }
+        3 => {
+            let mut t = trace.clone();
+            let v = t["steps"][step]["equations"][key].as_array_mut().unwrap();
+            if pick.is_multiple_of(2) {
+                v.pop();
+            } else {
+                v.push(json!(0.0));
+            }
+            text(&t)
+        }
+        4 => {
+            let mut t = trace.clone();
+            let numbers = [
+                json!(0),
+                json!(6),
+                json!(7),
+                json!(u64::MAX),
+                json!(-1),
+                json!(2.5),
+            ];
+            t["steps"][step]["step"] = numbers[pick % numbers.len()].clone();
+            text(&t)
+        }
+        5 => {
+            let mut d = json!({"id": (0..8).collect::<Vec<_>>(), "x0": run["particles"]["x0"], "u": run["particles"]["u"], "v": run["particles"]["v"]});
+            match pick % 3 {
+                0 => d["x0"][at % 8] = json!(0.0),
+                1 => d["id"][at % 8] = json!((at + 1) % 8),
+                _ => {
+                    let x = d["x0"][at % 8].as_f64().unwrap();
+                    d["x0"][at % 8] = json!(x + 0.2);
+                }
+            }
+            text(&d)
+        }
+        6 => {
+            let mut d = run.clone();
+            let huge = [1e155, 1e200, 1e300, 1.7e308, -1.7e308];
+            d["particles"][["u", "v", "stress"][at % 3]][pick % 8] = json!(huge[pick % huge.len()]);
+            text(&d)
+        }
+        _ => {
+            let mut d = run.clone();
+            let c = ["u", "v", "stress"][at % 3];
+            let x = d["particles"][c][pick % 8].as_f64().unwrap();
+            d["particles"][c][pick % 8] = json!(x * (1.0 + 1e-6) + 1e-300);
+            text(&d)
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 300,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(
+            std::env::var("HOMPM_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(20261125),
+        ),
+        ..ProptestConfig::default()
+    })]
+
+    /// `hompm check` on hompm's own output mutated in one of issue #35's
+    /// families: never "agrees", never a panic, an error of one line.
+    #[test]
+    fn a_mutated_output_of_hompm_s_own_is_never_called_agrees(family in 0u8..8, at in 0usize..64, pick in 0usize..64) {
+        let text = derived_mutation(family, at, pick);
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz-derived");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("input-{}.json", std::process::id()));
+        std::fs::write(&path, &text).unwrap();
+        let p = path.display().to_string();
+        let args = ["check", "vibrating-bar", "--cells", "4", "--ppc", "2", "--dt", "1e-3", "--steps", "5", "--input", &p];
+        match cli::run(args) {
+            Err(e) => {
+                prop_assert!(!cli::one_line(&e.to_string()).contains('\n'));
+                prop_assert_eq!(cli::exit_code(&e), 2, "{}: {}", family, e);
+            }
+            Ok(out) => {
+                prop_assert!(out.failure.is_some(), "family {}: agreed on {}", family, text);
+                prop_assert!(text_numbers_are_finite(&out.stdout), "{}", out.stdout);
+            }
+        }
+    }
+}
