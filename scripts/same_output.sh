@@ -5,6 +5,7 @@
 # stops) and compares their JSON with the wall-clock fields removed.
 #
 #   scripts/same_output.sh BASE
+#   BASE_BINARY=/path/to/hompm scripts/same_output.sh BASE   # BASE built already
 #
 # Use it with scripts/bench_compare.sh for a change meant to be faster and
 # otherwise identical (a speed change that moves a number is a different
@@ -13,14 +14,19 @@ set -euo pipefail
 base=${1:?usage: scripts/same_output.sh BASE}
 root=$(cd "$(dirname "$0")/.." && pwd)
 tree="$root/target/same-output-base"
-git -C "$root" worktree remove --force "$tree" 2>/dev/null || true
-git -C "$root" worktree add --detach "$tree" "$base" >/dev/null
-trap 'git -C "$root" worktree remove --force "$tree"' EXIT
-echo "building $base …" >&2
-(cd "$tree" && CARGO_TARGET_DIR="$root/target/same-output-target" cargo build --quiet --release --bin hompm)
+old="$root/target/same-output-target/release/hompm"
+if [ -n "${BASE_BINARY:-}" ]; then
+  # A release binary of BASE built before (e.g. by a fuzz campaign).
+  old=$BASE_BINARY
+else
+  git -C "$root" worktree remove --force "$tree" 2>/dev/null || true
+  git -C "$root" worktree add --detach "$tree" "$base" >/dev/null
+  trap 'git -C "$root" worktree remove --force "$tree"' EXIT
+  echo "building $base …" >&2
+  (cd "$tree" && CARGO_TARGET_DIR="$root/target/same-output-target" cargo build --quiet --release --bin hompm)
+fi
 echo "building the work tree …" >&2
 (cd "$root" && cargo build --quiet --release --bin hompm)
-old="$root/target/same-output-target/release/hompm"
 new="$root/target/release/hompm"
 
 # The JSON of one run without its timing fields (errors compare as text).

@@ -5,8 +5,9 @@
 //! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
 //! (10)–(17) at the Gauss points ([`mls`]), the TLS paper's §5.2–5.5 on
 //! rectangular cells ([`tls`]), both behind one interface
-//! ([`reconstruction`]), (18)–(37) (one step, [`step`], its phases in
-//! [`phases`]),
+//! ([`reconstruction`]) and registered as mappings ([`mapping`]),
+//! (18)–(37) (one step, [`step`], its phases in [`phases`], its buffers in
+//! [`workspace`]),
 //! (40)–(41) (the neo-Hookean solid, [`material`]). The particles are a
 //! struct of arrays ([`particles`]).
 //!
@@ -15,6 +16,7 @@
 //! B-splines), and the 2D functions are products of two 1D stencils.
 
 pub mod grid;
+pub mod mapping;
 pub mod material;
 pub mod mls;
 pub mod particles;
@@ -22,6 +24,7 @@ pub mod phases;
 pub mod reconstruction;
 pub mod step;
 pub mod tls;
+pub mod workspace;
 
 pub use grid::{Basis2d, Grid2d};
 pub use material::NeoHookean;

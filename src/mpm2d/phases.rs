@@ -28,10 +28,11 @@
 //! [`update_deformation_reference`].
 
 use super::grid::Grid2d;
+use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
-use super::step::{Conservation2d, Mapping2d, Workspace2d};
+use super::workspace::{Conservation2d, Workspace2d};
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use nalgebra::Matrix2;

@@ -36,148 +36,29 @@
 //! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
-//! Items: [`Mapping2d`], [`MappingInfo`], [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Workspace2d`],
-//! [`Conservation2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
+//! Items: [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
 //! [`NoObserver2d`].
 //!
-//! Re-exported from [`super::phases`]: the phase functions above and the
+//! Re-exported from [`super::mapping`]: [`Mapping2d`], [`MappingInfo`]; from
+//! [`super::workspace`]: [`Workspace2d`], [`Conservation2d`]; from
+//! [`super::phases`]: the phase functions above and the
 //! total-Lagrangian reference's `map_direct_reference` and
 //! `update_deformation_reference`.
 
 use super::grid::Grid2d;
 use super::material::NeoHookean;
-use super::mls::MlsShapes;
 use super::particles::Particles2d;
 use super::phases::{evaluate_basis_at_reference, record_conservation};
-use super::reconstruction::GaussReconstruction;
-use super::tls::TlsShapes;
-use crate::basis::Stencils;
 use crate::error::{Error, Result};
 use crate::spline::bspline::SpanScratch;
 use serde::{Deserialize, Serialize};
 
+pub use super::mapping::{Mapping2d, MappingInfo};
 pub use super::phases::{
     end_of_step_velocity, evaluate_basis, map_direct, map_direct_reference, map_reconstructed,
     nodal_update, update_deformation, update_deformation_reference, update_particles,
 };
-
-/// How particle data reach the grid (MLS paper, "phase 1").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Mapping2d {
-    /// Particles as the quadrature points (standard MPM, BSMPM).
-    Direct,
-    /// MLS to the 2×2 Gauss points of each cell, then Gauss quadrature,
-    /// in both mappings of a step (Eqs. 18–25 and 31–33).
-    Mls,
-    /// hompm's diagnostic variant: MLS in phase 1 (Eqs. 18–25) and the
-    /// direct mapping for the end-of-step velocity (Eqs. 31–33), to tell
-    /// which of the two MLS mappings drives the errors.
-    MlsPhase1,
-    /// Conservative Taylor least squares (TLS paper §5.2–5.5 on the cells,
-    /// [`super::tls`]) in place of MLS, in both mappings of a step.
-    Tls,
-}
-
-/// What the rest of hompm knows of a mapping: its names and its cost. One
-/// [`Mapping2d::info`] arm per mapping.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MappingInfo {
-    /// The name in JSON (serde's) and on the command line, where the
-    /// aligned vibration offers `bsmpm-<name>` (`direct` is plain `bsmpm`).
-    pub name: &'static str,
-    /// What a method label appends: `BSMPM-p2-<label>` (empty for direct).
-    pub label: &'static str,
-    /// One line for `--help`.
-    pub summary: &'static str,
-    /// The divan benchmark's cost of a step at degree 2, in ns per
-    /// particle-step (benches/mpm2d.rs, rounded up): the command line's
-    /// run-time estimate.
-    pub ns_per_particle_step: f64,
-    /// Bytes per particle that the reconstruction keeps besides the
-    /// particles and the grid (the memory estimate).
-    pub bytes_per_particle: f64,
-}
-
-impl Mapping2d {
-    /// Every mapping, in the order the command line lists them.
-    pub const ALL: [Mapping2d; 4] = [
-        Mapping2d::Direct,
-        Mapping2d::Mls,
-        Mapping2d::MlsPhase1,
-        Mapping2d::Tls,
-    ];
-
-    /// The registration of a mapping's names and cost.
-    pub fn info(self) -> MappingInfo {
-        match self {
-            Mapping2d::Direct => MappingInfo {
-                name: "direct",
-                label: "",
-                summary: "B-spline MPM of degree --degree (MLS paper Figs. 2-4)",
-                ns_per_particle_step: 110.0,
-                bytes_per_particle: 0.0,
-            },
-            Mapping2d::Mls => MappingInfo {
-                name: "mls",
-                label: "MLS",
-                summary: "B-spline MPM with MLS to the Gauss points (MLS paper; aligned-vibration only)",
-                ns_per_particle_step: 500.0,
-                bytes_per_particle: 7.0 * 40.0 * 12.0,
-            },
-            Mapping2d::MlsPhase1 => MappingInfo {
-                name: "mls-phase1",
-                label: "MLS-phase-1",
-                summary: "B-spline MPM with MLS in phase 1 only, hompm's diagnostic (aligned-vibration only)",
-                ns_per_particle_step: 500.0,
-                bytes_per_particle: 7.0 * 40.0 * 12.0,
-            },
-            Mapping2d::Tls => MappingInfo {
-                name: "tls",
-                label: "TLS",
-                summary: "B-spline MPM with conservative Taylor least squares to the Gauss points (TLS paper §5 in 2D; aligned-vibration only)",
-                ns_per_particle_step: 250.0,
-                bytes_per_particle: 0.0,
-            },
-        }
-    }
-
-    /// The registration of the Gauss-point reconstructions: the
-    /// [`GaussReconstruction`] of this mapping for `particles` particles on
-    /// `cells`² cells (MLS with support scale `mls_support`), or `None` for
-    /// the direct mapping.
-    pub fn reconstruction(
-        self,
-        mls_support: f64,
-        cells: usize,
-        particles: usize,
-    ) -> Result<Option<Box<dyn GaussReconstruction>>> {
-        Ok(match self {
-            Mapping2d::Direct => None,
-            Mapping2d::Mls | Mapping2d::MlsPhase1 => {
-                Some(Box::new(MlsShapes::new(mls_support, cells, particles)?))
-            }
-            Mapping2d::Tls => Some(Box::new(TlsShapes::for_engine(cells, particles)?)),
-        })
-    }
-
-    /// The mapping's name in JSON and on the command line:
-    /// [`MappingInfo::name`].
-    pub fn name(self) -> &'static str {
-        self.info().name
-    }
-
-    /// The mapping of a name, if one is registered under it.
-    pub fn from_name(name: &str) -> Option<Mapping2d> {
-        Mapping2d::ALL.into_iter().find(|m| m.name() == name)
-    }
-
-    /// Whether the end-of-step velocity (Eqs. 31–33) is mapped through the
-    /// reconstruction too (every reconstruction but the phase-1 diagnostic).
-    pub fn reconstructs_end_of_step(self) -> bool {
-        !matches!(self, Mapping2d::Direct | Mapping2d::MlsPhase1)
-    }
-}
+pub use super::workspace::{Conservation2d, Workspace2d};
 
 /// The points of a 2D step after which a [`StepObserver2d`] is called.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -247,57 +128,6 @@ pub struct Settings2d {
     pub material: NeoHookean,
     /// The MLS support scale s (r = |x − x_p|/(s·h)); unused for `Direct`.
     pub mls_support: f64,
-}
-
-/// The largest relative mapping errors of a run: mass |Σ_i m_i − Σ_p m_p| /
-/// Σ_p m_p and momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, taken
-/// over every phase-1 mapping (before the wall conditions).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Conservation2d {
-    /// Largest relative mass error.
-    pub mass: f64,
-    /// Largest relative momentum error.
-    pub momentum: f64,
-}
-
-/// Everything a step writes besides the particles, allocated once.
-#[derive(Debug)]
-pub struct Workspace2d {
-    /// The x-axis basis at every particle.
-    pub along_x: Stencils,
-    /// The y-axis basis at every particle.
-    pub along_y: Stencils,
-    pub(super) scratch: SpanScratch,
-    /// b_p(t) per unit mass.
-    pub body_force: Vec<[f64; 2]>,
-    /// Lumped nodal masses m_i (Eq. 22).
-    pub mass: Vec<f64>,
-    /// Nodal momenta (mv)_i^t of phase 1 (Eq. 23).
-    pub momentum: Vec<[f64; 2]>,
-    /// Nodal forces f_i = f_i^b + f_i^int of phase 1 (Eqs. 24–26), before
-    /// the walls' conditions.
-    pub force: Vec<[f64; 2]>,
-    /// Nodal accelerations a_i = f_i/m_i (Eq. 27), zero normal to the walls.
-    pub acceleration: Vec<[f64; 2]>,
-    /// Updated nodal momenta (mv)_i^{t+1} = (mv)_i^t + f_i Δt (Eq. 28).
-    pub momentum_next: Vec<[f64; 2]>,
-    /// Updated nodal velocities v_i^{t+1} = (mv)_i^{t+1}/m_i, which move the
-    /// particles (Eq. 30).
-    pub velocity_next: Vec<[f64; 2]>,
-    /// End-of-step nodal momenta (mv)_i^L (Eqs. 31–32).
-    pub momentum_end: Vec<[f64; 2]>,
-    /// End-of-step nodal velocities v_i^L = (mv)_i^L/m_i (Eq. 33), which
-    /// update the deformation (Eq. 34).
-    pub velocity_end: Vec<[f64; 2]>,
-    /// The Gauss-point reconstruction (MLS or TLS) of a reconstructed
-    /// mapping; `None` for the direct mapping.
-    pub reconstruction: Option<Box<dyn GaussReconstruction>>,
-    /// [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] per particle, the values
-    /// a reconstruction carries to the Gauss points (Eqs. 18–21).
-    pub particle_values: Vec<[f64; 8]>,
-    /// The same eight values at every Gauss point g = gx + 2·cells·gy after
-    /// the reconstruction of phase 1, Eqs. (18)–(21).
-    pub gauss_values: Vec<[f64; 8]>,
 }
 
 /// A 2D simulation: grid, particles, settings, workspace and clock.

@@ -385,7 +385,7 @@ fn list(names: &[String]) -> String {
     let shown: Vec<String> = names
         .iter()
         .take(10)
-        .map(|n| super::input_json::short(n))
+        .map(|n| super::table::short(n))
         .collect();
     if names.len() > 10 {
         format!("{} and {} more", shown.join(", "), names.len() - 10)

@@ -20,10 +20,11 @@
 //! Items: [`ParticleTable`], [`Input`], [`read_input`], [`parse_input`],
 //! [`known_columns`], [`ColumnMap`].
 
-use super::input_json::short;
+pub use super::table::ParticleTable;
+use super::table::{finite, short, Parsed, ParsedTable, TableBuilder};
 use super::trace::{Trace, TraceStep, TRACE_SCHEMA, TRACE_VERSION};
 use crate::error::{Error, Result};
-use std::collections::{BTreeMap, HashSet};
+use std::collections::BTreeMap;
 
 /// hompm's particle columns in 1D or 2D.
 pub fn known_columns(two_d: bool) -> &'static [&'static str] {
@@ -54,112 +55,12 @@ pub fn known_columns(two_d: bool) -> &'static [&'static str] {
     }
 }
 
-/// Particle columns by name, every column as long as the others.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ParticleTable {
-    /// The columns, in the file's order.
-    pub columns: Vec<(String, Vec<f64>)>,
-    /// `# key: value` metadata (CSV) or top-level scalars (JSON).
-    pub metadata: BTreeMap<String, String>,
-    /// The file's columns that are not hompm's (not compared), by the
-    /// file's names.
-    pub ignored: Vec<String>,
-}
-
-impl ParticleTable {
-    /// The column called `name`.
-    pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.columns
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-    }
-
-    /// Number of rows.
-    pub fn rows(&self) -> usize {
-        self.columns.first().map_or(0, |(_, v)| v.len())
-    }
-}
-
-/// Builds a [`ParticleTable`] column by column: a name given twice or a
-/// column of another length is refused, in time linear in the number of
-/// columns.
-#[derive(Debug, Default)]
-pub(crate) struct TableBuilder {
-    table: ParticleTable,
-    names: HashSet<String>,
-    scalars: Vec<String>,
-}
-
-impl TableBuilder {
-    /// Adds a column.
-    pub(crate) fn column(&mut self, name: String, values: Vec<f64>) -> Result<()> {
-        if self.names.contains(&name) {
-            return Err(Error::Input(format!(
-                "the column '{}' appears twice",
-                short(&name)
-            )));
-        }
-        if let Some((first, v)) = self.table.columns.first() {
-            if v.len() != values.len() {
-                return Err(Error::Input(format!(
-                    "the column '{}' has {} values but '{}' has {}",
-                    short(&name),
-                    values.len(),
-                    short(first),
-                    v.len()
-                )));
-            }
-        }
-        self.names.insert(name.clone());
-        self.table.columns.push((name, values));
-        Ok(())
-    }
-
-    /// Adds a metadata entry.
-    pub(crate) fn metadata(&mut self, key: &str, value: String) {
-        self.table.metadata.insert(key.to_string(), value);
-    }
-
-    /// Records a scalar of an object of columns (refused by [`rename`]
-    /// if it stands under one of hompm's column names).
-    pub(crate) fn scalar(&mut self, name: &str) {
-        self.scalars.push(name.to_string());
-    }
-
-    /// The table, any recorded scalars aside.
-    pub(crate) fn into_table(self) -> ParticleTable {
-        self.table
-    }
-
-    pub(crate) fn finish(self) -> ParsedTable {
-        ParsedTable {
-            table: self.table,
-            scalars: self.scalars,
-        }
-    }
-}
-
-/// A table as parsed, before `--columns` renames it.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct ParsedTable {
-    table: ParticleTable,
-    scalars: Vec<String>,
-}
-
 /// What a file holds.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Input {
     /// Particles at the end of a run.
     Particles(ParticleTable),
     /// A trace in `hompm trace`'s schema.
-    Trace(Trace),
-}
-
-/// What a file holds before `--columns` renames its particle columns.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Parsed {
-    Particles(ParsedTable),
     Trace(Trace),
 }
 
@@ -344,18 +245,6 @@ fn number(text: &str, row: usize, column: &str) -> Result<f64> {
         ))
     })?;
     finite(v, row, column)
-}
-
-/// `v`, or an error naming its row and column if it is not finite.
-pub(crate) fn finite(v: f64, row: usize, column: &str) -> Result<f64> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(Error::Input(format!(
-            "row {row}, column '{}' is {v}; every value must be finite",
-            short(column)
-        )))
-    }
 }
 
 fn parse_csv(text: &str) -> Result<Parsed> {

@@ -20,7 +20,7 @@
 //! Items: [`parse_strict`]; the crate's `parse_json` serves
 //! `oracle::input::parse_input`.
 
-use super::input::{Parsed, TableBuilder};
+use super::table::{finite, short, Parsed, TableBuilder};
 use super::trace::{Trace, TraceStep, TRACE_SCHEMA, TRACE_VERSION};
 use crate::error::{Error, Result};
 use serde::de::{DeserializeSeed, Deserializer, Error as _, MapAccess, SeqAccess, Visitor};
@@ -89,15 +89,6 @@ impl<'de> Visitor<'de> for StrictValue {
             object.insert(key, value);
         }
         Ok(Value::Object(object))
-    }
-}
-
-/// At most 60 characters of a name or value quoted in a message.
-pub(crate) fn short(text: &str) -> String {
-    if text.chars().count() <= 60 {
-        text.to_string()
-    } else {
-        text.chars().take(57).collect::<String>() + "…"
     }
 }
 
@@ -301,7 +292,7 @@ fn json_column(name: &str, items: &[Value], table: &mut TableBuilder) -> Result<
                     kind(cell)
                 ))
             })?;
-            column.push(super::input::finite(v, row, &format!("{name}{suffix}"))?);
+            column.push(finite(v, row, &format!("{name}{suffix}"))?);
         }
     }
     for (suffix, values) in suffixes.iter().zip(columns) {

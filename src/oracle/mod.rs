@@ -15,7 +15,8 @@
 //! - [`trace`]: the quantities of each numbered equation of the 1D step
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
 //! - [`input`]: the other code's particles or trace, in CSV or JSON,
-//!   read strictly ([`input_json`] for JSON);
+//!   read strictly ([`input_json`] for JSON) into a [`table`] of named
+//!   columns;
 //! - [`provenance`]: whether a file is of the run it is compared with;
 //! - [`state`]: hompm's particles as the check's table, and the matching
 //!   of the other code's particles;
@@ -26,7 +27,7 @@
 //! - [`convergence`](mod@convergence): observed orders over resolutions;
 //! - [`visibility`]: what the tolerance can see at a check's Δt.
 //!
-//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`provenance`], [`state`],
+//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`table`], [`provenance`], [`state`],
 //! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
 //! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
 
@@ -41,6 +42,7 @@ pub mod provenance;
 pub mod run;
 pub mod setup;
 pub mod state;
+pub mod table;
 pub mod trace;
 pub mod visibility;
 

@@ -9,8 +9,8 @@
 //!
 //! Items: [`check_header`], [`check_metadata`], [`check_steps`].
 
-use super::input_json::short;
 use super::setup::Setup;
+use super::table::short;
 use super::trace::{Trace, TraceStep};
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;

@@ -13,8 +13,8 @@
 //! Items: [`State`], [`MatchBy`], [`state_1d`], [`state_2d`],
 //! [`state_of_trace`], [`match_particles`], [`x0_columns`].
 
-use super::input::{ParticleTable, TableBuilder};
 use super::setup::{Setup1d, Setup2d};
+use super::table::{ParticleTable, TableBuilder};
 use super::trace::TraceStep;
 use crate::error::{Error, Result};
 use serde::Serialize;

@@ -186,12 +186,27 @@ impl TaylorBasis {
 
     /// ψ_{k+1}(x) alone (k = 0 is ψ_1 = 1), book Eq. (4.31), without allocating.
     pub fn function(&self, k: usize, x: f64) -> f64 {
-        if k == 0 {
-            return 1.0;
-        }
-        let dx = self.half_width();
-        let s = x - self.centroid();
-        (s.powi(k as i32) - self.average_of_power(k)) / (factorial(k) * dx.powi(k as i32))
+        taylor_function(k, x - self.centroid(), self.constants(k))
+    }
+
+    /// The constants of ψ_{k+1}: the cell average avg_k of (x − x_c)^k
+    /// (book Eq. 4.30) and the denominator k! Δx^k (book Eq. 4.31).
+    fn constants(&self, k: usize) -> (f64, f64) {
+        (
+            self.average_of_power(k),
+            factorial(k) * self.half_width().powi(k as i32),
+        )
+    }
+}
+
+/// Book Eq. (4.31), the one place it is written: ψ_{k+1} = 1 for k = 0,
+/// else ((x − x_c)^k − avg_k)/(k! Δx^k), from the offset s = x − x_c and
+/// the constants (avg_k, k! Δx^k) of [`TaylorBasis::constants`].
+fn taylor_function(k: usize, offset: f64, (average, denominator): (f64, f64)) -> f64 {
+    if k == 0 {
+        1.0
+    } else {
+        (offset.powi(k as i32) - average) / denominator
     }
 }
 
@@ -209,9 +224,8 @@ struct TaylorRows {
 impl TaylorRows {
     fn new(basis: &TaylorBasis) -> Self {
         let mut constants = [(0.0, 1.0); 8];
-        let dx = basis.half_width();
         for (k, c) in constants.iter_mut().enumerate().take(basis.order()).skip(1) {
-            *c = (basis.average_of_power(k), factorial(k) * dx.powi(k as i32));
+            *c = basis.constants(k);
         }
         Self {
             basis: *basis,
@@ -219,14 +233,14 @@ impl TaylorRows {
         }
     }
 
-    /// ψ_{skip+1}(x) … ψ_{n_b}(x) into `out`.
+    /// ψ_{skip+1}(x) … ψ_{n_b}(x) into `out`, by [`taylor_function`] with
+    /// the constants computed once.
     fn fill(&self, x: f64, skip: usize, out: &mut [f64]) {
         let s = x - self.basis.centroid();
         for (i, v) in out.iter_mut().enumerate() {
             let k = i + skip;
             *v = match self.constants.get(k) {
-                Some(_) if k == 0 => 1.0,
-                Some(&(avg, denominator)) => (s.powi(k as i32) - avg) / denominator,
+                Some(&constants) => taylor_function(k, s, constants),
                 None => self.basis.function(k, x),
             };
         }

@@ -288,6 +288,8 @@ fn mls_shape_functions_reproduce_constants_and_linear_fields_at_every_gauss_poin
 /// global coordinates. Five cells (odd, more than the four of the reach) so
 /// that the cell binning and the gathering are exercised away from the
 /// corners.
+///
+/// Map rows: mls-6, mls-7, mls-8, mls-9, mls-10, mls-11, mls-12, mls-13, mls-14, mls-15, mls-16, mls-17 — the engine's shape functions (MlsShapes) are compared with Eqs. (6)–(17) written out directly, which checks each of them at once.
 #[test]
 fn mls_shape_functions_are_eq_14_over_exactly_the_particles_in_the_support() {
     let weight = |d: f64| {
