@@ -53,12 +53,7 @@ pub struct MassArgs {
 impl MassArgs {
     /// The stopping rule's denominator.
     fn residual_norm(&self) -> crate::solve::richardson::ResidualNorm {
-        match self.residual {
-            Some(super::setup_args::ResidualArg::Solution) => {
-                crate::solve::richardson::ResidualNorm::Solution
-            }
-            _ => crate::solve::richardson::ResidualNorm::Rhs,
-        }
+        self.residual.map_or(Default::default(), Into::into)
     }
 }
 

@@ -40,6 +40,16 @@ pub enum ResidualArg {
     Solution,
 }
 
+impl From<ResidualArg> for ResidualNorm {
+    /// The one place the command line's word becomes the stopping rule.
+    fn from(arg: ResidualArg) -> Self {
+        match arg {
+            ResidualArg::Rhs => ResidualNorm::Rhs,
+            ResidualArg::Solution => ResidualNorm::Solution,
+        }
+    }
+}
+
 /// The options of a run.
 #[derive(clap::Args, Debug, Clone)]
 pub struct SetupArgs {
@@ -191,10 +201,7 @@ impl SetupArgs {
                 f64::EPSILON
             )));
         }
-        let residual = match self.residual.unwrap_or(ResidualArg::Rhs) {
-            ResidualArg::Rhs => ResidualNorm::Rhs,
-            ResidualArg::Solution => ResidualNorm::Solution,
-        };
+        let residual = self.residual.map_or(ResidualNorm::default(), ResidualNorm::from);
         Ok(MassMatrix::Consistent(ConsistentSolver::Richardson {
             tolerance,
             residual,

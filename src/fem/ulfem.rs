@@ -105,7 +105,7 @@ impl Ulfem {
 
     /// One Euler–Cromer step.
     pub fn step(&mut self, dt: f64) -> Result<()> {
-        crate::mpm::musl::check_time_step(dt)?;
+        crate::mpm::check_time_step(dt)?;
         let n = self.x.len();
         let mut f = vec![0.0; n];
         for (e, s) in self.stress.iter().enumerate() {

@@ -14,7 +14,9 @@
 //!
 //! [`particles`] holds the material points (struct of arrays), [`musl`] the
 //! time step, [`diagnostics`] the error measures of the seeds and
-//! [`monitor`] the stability monitor of `hompm run`.
+//! [`monitor`] the stability monitor of `hompm run`. [`check_time_step`] is
+//! the one check of Δt that the 1D step, the 2D step and the FE reference
+//! share.
 
 pub mod diagnostics;
 pub mod grid;
@@ -22,3 +24,17 @@ pub mod mapping;
 pub mod monitor;
 pub mod musl;
 pub mod particles;
+
+/// The time step of a step must be positive and finite: [`Error::NotPositive`]
+/// naming "the time step" otherwise. The 1D step (`musl`), the 2D step
+/// (`mpm2d::step`) and the updated-Lagrangian FE reference (`fem::ulfem`)
+/// all check Δt here.
+pub fn check_time_step(dt: f64) -> crate::error::Result<()> {
+    if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
+        return Err(crate::error::Error::NotPositive {
+            what: "the time step".into(),
+            value: dt,
+        });
+    }
+    Ok(())
+}

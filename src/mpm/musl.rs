@@ -38,7 +38,7 @@
 //! step they describe.
 //!
 //! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`],
-//! [`StepPoint`], [`StepObserver`], [`NoObserver`], [`check_time_step`].
+//! [`StepPoint`], [`StepObserver`], [`NoObserver`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
@@ -290,7 +290,7 @@ impl Simulation {
     /// One MUSL step of size dt that calls `observer` after each numbered
     /// function ([`StepPoint`]).
     pub fn step_observed<O: StepObserver>(&mut self, dt: f64, observer: &mut O) -> Result<()> {
-        check_time_step(dt)?;
+        super::check_time_step(dt)?;
         self.evaluate_basis_at_particles()?;
         self.map_mass_and_loads();
         observer.observe(StepPoint::MassAndLoads, self)?;
@@ -604,16 +604,4 @@ fn update_positions<const W: usize>(
         p.x[k] += du;
         *increment = deps;
     }
-}
-
-/// The time step of a step must be positive and finite; the 1D and the 2D
-/// step both check it here.
-pub fn check_time_step(dt: f64) -> Result<()> {
-    if dt.is_nan() || dt <= 0.0 || dt.is_infinite() {
-        return Err(Error::NotPositive {
-            what: "the time step".into(),
-            value: dt,
-        });
-    }
-    Ok(())
 }

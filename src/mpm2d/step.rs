@@ -237,7 +237,7 @@ impl Simulation2d {
     /// One step of length Δt > 0 that calls `observer` after each phase
     /// ([`StepPoint2d`]).
     pub fn step_observed<O: StepObserver2d>(&mut self, dt: f64, observer: &mut O) -> Result<()> {
-        crate::mpm::musl::check_time_step(dt)?;
+        crate::mpm::check_time_step(dt)?;
         let total = self.settings.formulation == Formulation::TotalLagrangian;
         // The step and time this step reaches, for its errors.
         let (next_step, next_time) = (self.steps + 1, self.time + dt);

@@ -71,10 +71,7 @@ pub fn method_label_1d(d: &Discretisation) -> String {
             residual,
         }) => format!(
             "consistent mass (Richardson to {tolerance:e}, residual over ‖{}‖)",
-            match residual {
-                crate::solve::richardson::ResidualNorm::Rhs => "P",
-                crate::solve::richardson::ResidualNorm::Solution => "v",
-            }
+            residual.symbol()
         ),
     };
     format!("{} with {mapping} and {mass}", d.method.label())

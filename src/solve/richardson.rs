@@ -35,6 +35,14 @@ pub enum ResidualNorm {
 }
 
 impl ResidualNorm {
+    /// The symbol of the divisor in messages and labels: `P` or `v`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            ResidualNorm::Rhs => "P",
+            ResidualNorm::Solution => "v",
+        }
+    }
+
     /// The norm the residual is divided by: ‖P‖₂ (given) or ‖v‖₂.
     fn denominator(self, rhs_norm: f64, iterate: &[f64]) -> f64 {
         match self {

@@ -150,7 +150,7 @@ pub fn source_files() -> Vec<(std::path::PathBuf, String)> {
 
 /// Δt = 0 and Δt = NaN are refused by `step` as `Error::NotPositive` naming
 /// the time step and carrying the value (1D and 2D share
-/// `mpm::musl::check_time_step`).
+/// `mpm::check_time_step`).
 pub fn assert_refuses_bad_time_steps(mut step: impl FnMut(f64) -> hompm::Result<()>) {
     for dt in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
         match step(dt) {
