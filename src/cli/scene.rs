@@ -89,16 +89,28 @@ fn params_json(scene: &Scene1d) -> Result<serde_json::Value> {
     }
 }
 
-/// The steps, each followed by the monitor's check; a progress bar on a
-/// terminal.
-fn advance(setup: &Setup1d) -> Result<(Simulation, Vec<Warning>)> {
+/// `run` with a progress callback: a bar on stderr when it is a terminal
+/// and the run has at least 10 000 steps, nothing otherwise. The 1D and
+/// the 2D run show the same bar.
+pub(super) fn with_progress<T>(
+    steps: usize,
+    run: impl FnOnce(&mut dyn FnMut(usize)) -> Result<T>,
+) -> Result<T> {
     use std::io::IsTerminal;
-    let bar = indicatif::ProgressBar::new(setup.steps as u64);
-    if !(std::io::stderr().is_terminal() && setup.steps >= 10_000) {
+    let bar = indicatif::ProgressBar::new(steps as u64);
+    if !(std::io::stderr().is_terminal() && steps >= 10_000) {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    let run = run_1d(setup, &mut NoObserver, &mut |_| bar.inc(1))?;
+    let out = run(&mut |_| bar.inc(1));
     bar.finish_and_clear();
+    out
+}
+
+/// The steps, each followed by the monitor's check, with progress.
+fn advance(setup: &Setup1d) -> Result<(Simulation, Vec<Warning>)> {
+    let run = with_progress(setup.steps, |progress| {
+        run_1d(setup, &mut NoObserver, progress)
+    })?;
     Ok((run.simulation, run.warnings))
 }
 

@@ -201,7 +201,9 @@ impl SetupArgs {
                 f64::EPSILON
             )));
         }
-        let residual = self.residual.map_or(ResidualNorm::default(), ResidualNorm::from);
+        let residual = self
+            .residual
+            .map_or(ResidualNorm::default(), ResidualNorm::from);
         Ok(MassMatrix::Consistent(ConsistentSolver::Richardson {
             tolerance,
             residual,

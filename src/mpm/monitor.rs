@@ -19,8 +19,14 @@
 //!   (thesis §5.2), or a time step above the critical step that hompm's own
 //!   CFL study measured for the basis ([`measured_critical_courant`]).
 //!
-//! Items: [`StabilityMonitor`], [`Warning`], [`measured_critical_courant`],
-//! [`ENERGY_GROWTH_BOUND`].
+//! One monitor watches the 1D and the 2D run ([`Watched`]): the energy
+//! budget and the strain limit are checked the same way, and each run says
+//! what its energy and its strain are. The 1D run adds the negative-mass
+//! warning and the CFL warning, which 2D does not have yet (no 2D critical
+//! Courant number is measured; docs/conventions.md, "The stability monitor").
+//!
+//! Items: [`StabilityMonitor`], [`Warning`], [`Watched`],
+//! [`measured_critical_courant`], [`ENERGY_GROWTH_BOUND`].
 
 use super::grid::Method;
 use super::musl::Simulation;
@@ -99,8 +105,49 @@ impl std::fmt::Display for Warning {
     }
 }
 
-/// Watches a [`Simulation`] step by step: call [`StabilityMonitor::check`]
-/// after every step.
+/// What the monitor reads of a run after each step, in 1D or in 2D.
+pub trait Watched {
+    /// Steps taken so far.
+    fn steps_done(&self) -> usize;
+    /// Time reached.
+    fn time(&self) -> f64;
+    /// The energy the budget bounds (1D: kinetic plus ½ σ ε V; 2D: kinetic).
+    fn energy(&self) -> f64;
+    /// The particle with the largest speed, if there is one.
+    fn fastest_particle(&self) -> Option<usize>;
+    /// The first particle whose strain reached the limit, with the cause.
+    fn strain_at_limit(&self) -> Option<(usize, DivergenceCause)>;
+}
+
+impl Watched for Simulation {
+    fn steps_done(&self) -> usize {
+        self.diagnostics.steps
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn energy(&self) -> f64 {
+        Simulation::energy(self)
+    }
+
+    fn fastest_particle(&self) -> Option<usize> {
+        let v = &self.particles.velocity;
+        (0..v.len()).max_by(|&i, &j| v[i].abs().total_cmp(&v[j].abs()))
+    }
+
+    /// |ε_p| ≥ 1: a Jacobian 1 + ε ≤ 0 or a doubled length.
+    fn strain_at_limit(&self) -> Option<(usize, DivergenceCause)> {
+        let strain = &self.particles.strain;
+        let k = strain.iter().position(|e| e.abs() >= 1.0)?;
+        Some((k, DivergenceCause::StrainLimit { strain: strain[k] }))
+    }
+}
+
+/// Watches a run step by step: call [`StabilityMonitor::check`] (1D) or
+/// [`StabilityMonitor::check_watched`] (any [`Watched`] run) after every
+/// step.
 #[derive(Debug, Clone)]
 pub struct StabilityMonitor {
     energy_budget: f64,
@@ -134,25 +181,38 @@ impl StabilityMonitor {
                 });
             }
         }
-        Ok(Self {
-            energy_budget,
-            warnings,
-        })
+        Ok(Self::with_budget(energy_budget, warnings))
     }
 
-    /// Checks the state after a step: [`Error::Diverged`] if the energy left
-    /// its budget or a strain reached ±1; records a negative-mass warning.
+    /// A monitor with a given energy budget (the run's [`ENERGY_GROWTH_BOUND`]
+    /// × its largest admissible energy) and the warnings known before the
+    /// first step.
+    pub fn with_budget(energy_budget: f64, warnings: Vec<Warning>) -> Self {
+        Self {
+            energy_budget,
+            warnings,
+        }
+    }
+
+    /// Checks the state after a 1D step: [`StabilityMonitor::check_watched`],
+    /// then records a negative-mass warning.
     pub fn check(&mut self, sim: &Simulation) -> Result<()> {
-        let step = sim.diagnostics.steps;
-        let energy = sim.energy();
+        self.check_watched(sim)?;
+        self.record_negative_masses(sim);
+        Ok(())
+    }
+
+    /// Checks the state after a step of any run: [`Error::Diverged`] if the
+    /// energy left its budget (naming the fastest particle) or a strain
+    /// reached its limit (naming that particle).
+    pub fn check_watched(&mut self, run: &impl Watched) -> Result<()> {
+        let (step, time) = (run.steps_done(), run.time());
+        let energy = run.energy();
         if energy > self.energy_budget {
-            let p = &sim.particles;
-            let fastest =
-                (0..p.len()).max_by(|&i, &j| p.velocity[i].abs().total_cmp(&p.velocity[j].abs()));
             return Err(Error::Diverged {
                 step,
-                time: sim.time,
-                particle: fastest,
+                time,
+                particle: run.fastest_particle(),
                 cause: DivergenceCause::EnergyGrowth {
                     energy,
                     bound: ENERGY_GROWTH_BOUND,
@@ -160,17 +220,14 @@ impl StabilityMonitor {
                 },
             });
         }
-        if let Some(k) = sim.particles.strain.iter().position(|e| e.abs() >= 1.0) {
+        if let Some((particle, cause)) = run.strain_at_limit() {
             return Err(Error::Diverged {
                 step,
-                time: sim.time,
-                particle: Some(k),
-                cause: DivergenceCause::StrainLimit {
-                    strain: sim.particles.strain[k],
-                },
+                time,
+                particle: Some(particle),
+                cause,
             });
         }
-        self.record_negative_masses(sim);
         Ok(())
     }
 

@@ -7,7 +7,7 @@
 //! rectangular cells ([`tls`]), both behind one interface
 //! ([`reconstruction`]) and registered as mappings ([`mapping`]),
 //! (18)–(37) (one step, [`step`], its phases in [`phases`], its buffers in
-//! [`workspace`]),
+//! [`workspace`]), watched by the 1D run's stability monitor ([`monitor`]),
 //! (40)–(41) (the neo-Hookean solid, [`material`]). The particles are a
 //! struct of arrays ([`particles`]).
 //!
@@ -19,6 +19,7 @@ pub mod grid;
 pub mod mapping;
 pub mod material;
 pub mod mls;
+pub mod monitor;
 pub mod particles;
 pub mod phases;
 pub mod reconstruction;

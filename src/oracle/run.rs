@@ -1,8 +1,9 @@
 //! # Running a setup under the stability monitor
 //!
 //! One function per dimension runs a [`Setup1d`] or [`Setup2d`] the way
-//! `hompm run` does: each 1D step is followed by the stability monitor's
-//! check (`mpm::monitor`), and a run that failed with Δt above the measured
+//! `hompm run` does: each step, 1D or 2D, is followed by the stability
+//! monitor's check (`mpm::monitor`, which `mpm2d::monitor` gives the 2D
+//! run), and a run that failed with Δt above the measured
 //! critical step names that cause ([`Error::Diverged`]). `hompm run`,
 //! `trace` and `check` all call these, so they run the same steps.
 //!
@@ -10,7 +11,7 @@
 //! [`reference`] gives hompm's final state (and trace) that `hompm check`
 //! compares with.
 //!
-//! Items: [`run_1d`], [`run_2d`], [`run_2d_observed`], [`Run1d`],
+//! Items: [`run_1d`], [`run_2d`], [`run_2d_observed`], [`Run1d`], [`Run2d`],
 //! [`trace_1d`], [`trace_2d`], [`reference`].
 
 use super::setup::{Setup, Setup1d, Setup2d};
@@ -20,6 +21,7 @@ use crate::error::{DivergenceCause, Error, Result};
 use crate::mpm::monitor::{StabilityMonitor, Warning};
 use crate::mpm::musl::NoObserver;
 use crate::mpm::musl::{Simulation, StepObserver};
+use crate::mpm2d::monitor::stability_monitor;
 use crate::mpm2d::step::{NoObserver2d, Simulation2d, StepObserver2d};
 use std::collections::BTreeSet;
 
@@ -54,23 +56,42 @@ pub fn run_1d<O: StepObserver>(
     })
 }
 
-/// Runs a 2D setup (MLS paper Eqs. 18–37) to its end.
-pub fn run_2d(setup: &Setup2d) -> Result<Simulation2d> {
-    run_2d_observed(setup, &mut NoObserver2d)
+/// A finished 2D run: the simulation at its end and the monitor's warnings
+/// (as [`Run1d`]).
+pub struct Run2d {
+    /// The simulation after the last step.
+    pub simulation: Simulation2d,
+    /// What the monitor found suspicious.
+    pub warnings: Vec<Warning>,
 }
 
-/// [`run_2d`] with `observer` called inside every step.
+/// Runs a 2D setup (MLS paper Eqs. 18–37) to its end under the stability
+/// monitor (`mpm2d::monitor`).
+pub fn run_2d(setup: &Setup2d) -> Result<Simulation2d> {
+    Ok(run_2d_observed(setup, &mut NoObserver2d, &mut |_| {})?.simulation)
+}
+
+/// [`run_2d`] with `observer` called inside every step and `progress`
+/// after each step with the number of steps done, as [`run_1d`].
 pub fn run_2d_observed<O: StepObserver2d>(
     setup: &Setup2d,
     observer: &mut O,
-) -> Result<Simulation2d> {
+    progress: &mut dyn FnMut(usize),
+) -> Result<Run2d> {
     let mut sim = setup
         .scene
         .simulation(setup.method, setup.cells, setup.per_side, 1.0)?;
-    for _ in 0..setup.steps {
+    let work = setup.scene.work_bound(sim.particles.total_mass())?;
+    let mut monitor = stability_monitor(&sim, work);
+    for k in 0..setup.steps {
         sim.step_observed(setup.dt, observer)?;
+        monitor.check_watched(&sim)?;
+        progress(k + 1);
     }
-    Ok(sim)
+    Ok(Run2d {
+        warnings: monitor.warnings().to_vec(),
+        simulation: sim,
+    })
 }
 
 /// hompm's trace of a 2D setup (MLS paper Eqs. 18–41), as [`trace_1d`].
@@ -84,7 +105,7 @@ pub fn trace_2d(
         None => Recorder::new(s.dt, every, s.steps),
     };
     let mut observer = TraceObserver2d { recorder };
-    let sim = run_2d_observed(s, &mut observer)?;
+    let sim = run_2d_observed(s, &mut observer, &mut |_| {})?.simulation;
     let mut header = header_2d(s)?;
     header.insert("every".into(), serde_json::json!(every));
     Ok((observer.recorder.into_trace(header), sim))

@@ -13,8 +13,10 @@ use super::super::args::name;
 use super::super::{json, Output};
 use super::RunArgs;
 use crate::error::Result;
+use crate::mpm::monitor::Warning;
+use crate::mpm2d::step::NoObserver2d;
 use crate::oracle::exact::formulas_2d;
-use crate::oracle::run::run_2d;
+use crate::oracle::run::run_2d_observed;
 use crate::oracle::setup::{Setup, Setup2d};
 use crate::scenes::aligned_vibration::AlignedVibration;
 use serde::Serialize;
@@ -53,7 +55,7 @@ struct Run2dJson {
     exact_solution: serde_json::Value,
     particles: Particles2dJson,
     diagnostics: serde_json::Value,
-    warnings: Vec<String>,
+    warnings: Vec<Warning>,
 }
 
 fn rows(m: &[nalgebra::Matrix2<f64>]) -> Vec<[f64; 4]> {
@@ -66,7 +68,10 @@ fn rows(m: &[nalgebra::Matrix2<f64>]) -> Vec<[f64; 4]> {
 /// limits.
 pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
     let (scene, m) = (s.scene, s.method);
-    let sim = run_2d(s)?;
+    let run = super::with_progress(s.steps, |progress| {
+        run_2d_observed(s, &mut NoObserver2d, progress)
+    })?;
+    let sim = run.simulation;
     let errors = scene.errors(&sim)?;
     let p = &sim.particles;
     let mut diagnostics = serde_json::json!({
@@ -107,8 +112,9 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
             density: p.density.clone(),
         },
         diagnostics,
-        warnings: Vec::new(),
+        warnings: run.warnings,
     };
+    let warnings = doc.warnings.iter().map(ToString::to_string).collect();
     let stdout = if a.json {
         json::strict(&doc)?
     } else {
@@ -119,7 +125,7 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
     };
     Ok(Output {
         stdout,
-        warnings: Vec::new(),
+        warnings,
         failure: None,
     })
 }

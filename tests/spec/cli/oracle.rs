@@ -715,7 +715,7 @@ fn check_names_eq_27_and_the_node_component_for_a_2d_acceleration_defect() {
     let mut code = Defective2d(TraceObserver2d {
         recorder: Recorder::new(s.dt, 1, s.steps),
     });
-    hompm::oracle::run::run_2d_observed(&s, &mut code).unwrap();
+    hompm::oracle::run::run_2d_observed(&s, &mut code, &mut |_| {}).unwrap();
     let theirs = code.0.recorder.into_trace(header_2d(&s).unwrap());
     let (ours, _) = hompm::oracle::run::trace_2d(&s, 1, None).unwrap();
     // The first node whose a_y changes visibly under the factor 1.01.

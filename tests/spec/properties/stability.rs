@@ -362,3 +362,126 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
     sim.particles.stress[2] = f64::NAN;
     assert_eq!(non_physical(&sim), (2, true), "non-physical comes first");
 }
+
+/// Issue #37: the 2D run is watched by the 1D run's monitor. Its energy is
+/// Σ ½ m_p |v_p|²; above ENERGY_GROWTH_BOUND × (initial kinetic energy +
+/// the loads' work) the run stops with the same typed error as in 1D,
+/// naming the step, the time and the fastest particle. There is no strain
+/// limit in 2D (a finite-strain solid; the step refuses det F ≤ 0).
+#[test]
+fn the_2d_monitor_stops_above_the_energy_budget_and_names_the_fastest_particle() {
+    use hompm::mpm::monitor::{Watched, ENERGY_GROWTH_BOUND};
+    use hompm::mpm2d::monitor::{kinetic_energy, stability_monitor};
+    let scene = hompm::scenes::aligned_vibration::parameters("mls-paper-e1e7").unwrap();
+    let method = hompm::scenes::aligned_vibration::AlignedMethod::bsmpm(2);
+    let mut sim = scene.simulation(method, 2, 2, 1.0).unwrap();
+    let p = &sim.particles;
+    let by_hand: f64 = (0..p.len())
+        .map(|k| 0.5 * p.mass[k] * (p.velocity[k][0].powi(2) + p.velocity[k][1].powi(2)))
+        .sum();
+    assert_eq!(kinetic_energy(&sim), by_hand);
+    assert!(by_hand > 0.0, "the aligned vibration starts moving");
+    let work = 3.0 * by_hand;
+    let mut monitor = stability_monitor(&sim, work);
+    assert_eq!(
+        monitor.energy_budget(),
+        ENERGY_GROWTH_BOUND * (by_hand + work)
+    );
+    assert!(monitor.warnings().is_empty());
+    assert_eq!(monitor.check_watched(&sim), Ok(()));
+
+    // Particle 5 alone carries 40 × the initial energy: above the budget of 40×.
+    let m5 = sim.particles.mass[5];
+    let speed = (2.0 * 40.0 * by_hand / m5).sqrt();
+    for v in sim.particles.velocity.iter_mut() {
+        *v = [0.0, 0.0];
+    }
+    sim.particles.velocity[5] = [0.0, speed * 0.999];
+    assert_eq!(
+        monitor.check_watched(&sim),
+        Ok(()),
+        "below the budget the run goes on"
+    );
+    sim.particles.velocity[5] = [0.0, speed * 1.001];
+    sim.steps = 7;
+    sim.time = 7e-5;
+    match monitor.check_watched(&sim) {
+        Err(Error::Diverged {
+            step: 7,
+            time,
+            particle: Some(5),
+            cause:
+                DivergenceCause::EnergyGrowth {
+                    energy,
+                    budget,
+                    bound,
+                },
+        }) => {
+            assert_eq!(time, 7e-5);
+            assert_eq!(
+                (energy, budget, bound),
+                (kinetic_energy(&sim), 40.0 * by_hand, ENERGY_GROWTH_BOUND)
+            );
+        }
+        other => panic!("expected energy growth at particle 5, got {other:?}"),
+    }
+    // A large deformation alone is no divergence in 2D.
+    sim.particles.velocity[5] = [0.0, 0.0];
+    sim.particles.deformation[2] = nalgebra::Matrix2::new(3.0, 0.0, 0.0, 0.5);
+    assert_eq!(sim.strain_at_limit(), None);
+    assert_eq!(monitor.check_watched(&sim), Ok(()));
+}
+
+/// Issue #37: `hompm run aligned-vibration` goes through the monitor with
+/// progress after each step, as the 1D run; its loads' work is the
+/// manufactured body force's bound (total mass × 2 max|b| × L√2), which
+/// grows with the mass and is at least what any sampled b gives.
+#[test]
+fn the_2d_run_reports_progress_every_step_and_budgets_the_body_forces_work() {
+    let scene = hompm::scenes::aligned_vibration::parameters("mls-paper-e1e7").unwrap();
+    let setup = hompm::oracle::setup::Setup2d {
+        scene,
+        set_name: "mls-paper-e1e7",
+        method: hompm::scenes::aligned_vibration::AlignedMethod::bsmpm(2),
+        cells: 2,
+        per_side: 2,
+        dt: 1e-5,
+        steps: 6,
+    };
+    let mut seen = Vec::new();
+    let run = hompm::oracle::run::run_2d_observed(
+        &setup,
+        &mut hompm::mpm2d::step::NoObserver2d,
+        &mut |k| seen.push(k),
+    )
+    .unwrap();
+    assert_eq!(seen, [1, 2, 3, 4, 5, 6]);
+    assert!(run.warnings.is_empty());
+    assert_eq!(run.simulation.steps, 6);
+
+    let w1 = scene.work_bound(1.0).unwrap();
+    assert_eq!(scene.work_bound(3.0).unwrap(), 3.0 * w1);
+    let period = 2.0 * scene.length / scene.wave_speed();
+    for (x, y, t) in [(0.25, 0.5, 0.25), (0.125, 0.875, 0.5), (0.75, 0.25, 0.75)] {
+        let b = scene
+            .body_force([x * scene.length, y * scene.length], t * period)
+            .unwrap();
+        let sampled = 2.0 * b[0].hypot(b[1]) * scene.length * std::f64::consts::SQRT_2;
+        assert!(w1 >= sampled, "{w1} < {sampled} at ({x}, {y}, {t})");
+    }
+    // The grid's own samples (X on multiples of L/64, t of T/64) give it exactly.
+    let b = |x: f64, y: f64, t: f64| {
+        let f = scene.body_force([x, y], t).unwrap();
+        f[0].hypot(f[1])
+    };
+    let mut largest = 0.0f64;
+    for i in 0..65 {
+        for j in 0..65 {
+            for k in 0..65 {
+                let at = |n: usize, span: f64| span * n as f64 / 64.0;
+                largest = largest.max(b(at(i, scene.length), at(j, scene.length), at(k, period)));
+            }
+        }
+    }
+    assert_eq!(w1, 2.0 * largest * scene.length * std::f64::consts::SQRT_2);
+}
