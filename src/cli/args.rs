@@ -126,27 +126,31 @@ impl ValueEnum for MethodArg {
     }
 }
 
-/// How particle data reaches the grid (`--mapping`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum MappingArg {
-    /// Particles as quadrature points (book Eqs. 4.5–4.10).
-    Direct,
-    /// Taylor least squares (book §4.4.3, TLS paper §5.4).
-    Tls,
-    /// Cubic splines (thesis ch. 7), at the thesis' half-span Gauss points.
-    CubicSpline,
-    /// Cubic splines with every half span clipped to the continuum Ω_t.
-    CubicSplineClipped,
+/// How particle data reaches the grid (`--mapping`): any registered 1D
+/// mapping, by its name ([`Mapping::ALL`], [`Mapping::info`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MappingArg(pub Mapping);
+
+impl MappingArg {
+    /// The default, particles as quadrature points.
+    pub const DIRECT: MappingArg = MappingArg(Mapping::Direct);
+}
+
+impl ValueEnum for MappingArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        static ALL: std::sync::OnceLock<Vec<MappingArg>> = std::sync::OnceLock::new();
+        ALL.get_or_init(|| Mapping::ALL.into_iter().map(MappingArg).collect())
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        let info = self.0.info();
+        Some(clap::builder::PossibleValue::new(info.name).help(info.summary))
+    }
 }
 
 impl From<MappingArg> for Mapping {
     fn from(m: MappingArg) -> Self {
-        match m {
-            MappingArg::Direct => Mapping::Direct,
-            MappingArg::Tls => Mapping::Tls,
-            MappingArg::CubicSpline => Mapping::CubicSpline,
-            MappingArg::CubicSplineClipped => Mapping::CubicSplineClipped,
-        }
+        m.0
     }
 }
 

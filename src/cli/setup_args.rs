@@ -101,7 +101,7 @@ pub struct SetupArgs {
     #[arg(long, default_value_t = 2, value_parser = count, allow_negative_numbers = true)]
     pub degree: usize,
     /// How particle data reaches the grid.
-    #[arg(long, value_enum, default_value_t = MappingArg::Direct)]
+    #[arg(long, value_enum, default_value_t = MappingArg::DIRECT)]
     pub mapping: MappingArg,
     /// The mass matrix of the velocity projection.
     #[arg(long, value_enum, default_value_t = MassArg::Lumped)]
@@ -286,7 +286,7 @@ impl SetupArgs {
 
     /// The 2D method of --method and --degree.
     fn aligned_method(&self) -> Result<AlignedMethod> {
-        if self.mass != MassArg::Lumped || self.mapping != MappingArg::Direct {
+        if self.mass != MassArg::Lumped || self.mapping != MappingArg::DIRECT {
             return Err(Error::InvalidArgument(
                 "aligned-vibration runs with the lumped mass; its mapping follows --method (bsmpm-mls maps by MLS)".into(),
             ));
@@ -332,11 +332,7 @@ fn check_limits_1d(a: &SetupArgs, s: &Setup1d, limits: &Limits, extra: f64) -> R
     let what = || format!("a run of {particles:.0} particles × {} steps", s.steps);
     let bytes = (particles + dofs) * (200.0 + 16.0 * width) + particles * 600.0 + extra;
     limits.check_memory(what, bytes, "particle and grid storage")?;
-    let mapping = if a.mapping == MappingArg::Direct {
-        0.0
-    } else {
-        200.0
-    };
+    let mapping = a.mapping.0.info().extra_ns_per_particle_step;
     let solve = if a.mass == MassArg::Lumped {
         20.0
     } else {

@@ -32,7 +32,13 @@
 //! assembly) both reuse; split, those buffers would have to be public to
 //! the crate.
 //!
-//! Items: [`Mapping`], [`ConsistentSolver`], [`MassMatrix`],
+//! A mapping is registered once ([`Mapping::ALL`], [`Mapping::info`]: its
+//! name, label, legend, `--help` line and cost); the command line, the
+//! labels and the estimates read the registry, and its implementation is
+//! one arm in each of [`MappingWorkspace::begin_step`], [`internal_force`]
+//! and the projection's accumulation, all in this file.
+//!
+//! Items: [`Mapping`], [`MappingInfo1d`], [`ConsistentSolver`], [`MassMatrix`],
 //! [`TLS_GAUSS_POINTS`], [`MappingWorkspace`], [`internal_force`],
 //! [`Projection`], [`project_velocity`], [`assemble_projection`],
 //! [`solve_projection`], [`diagnose_projection`].
@@ -69,6 +75,78 @@ pub enum Mapping {
     /// (issue #11; the rule under which TLS paper Table 7's spline mass
     /// errors appear, docs/conventions.md).
     CubicSplineClipped,
+}
+
+/// What the rest of hompm knows of a 1D mapping: its names and its cost.
+/// One [`Mapping::info`] arm per mapping, as 2D's `MappingInfo`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MappingInfo1d {
+    /// The name in JSON (serde's) and on the command line (`--mapping`).
+    pub name: &'static str,
+    /// The mapping in a method's label in words: `… with TLS mapping`.
+    pub label: &'static str,
+    /// The mapping in a chart's legend, after the method: `BSMPM + TLS`
+    /// (empty for the direct mapping).
+    pub legend: &'static str,
+    /// One line for `--help`.
+    pub summary: &'static str,
+    /// The reconstruction's cost on top of the direct step, in ns per
+    /// particle-step (the command line's run-time estimate).
+    pub extra_ns_per_particle_step: f64,
+}
+
+impl Mapping {
+    /// Every 1D mapping, in the order the command line lists them.
+    pub const ALL: [Mapping; 4] = [
+        Mapping::Direct,
+        Mapping::Tls,
+        Mapping::CubicSpline,
+        Mapping::CubicSplineClipped,
+    ];
+
+    /// The registration of a mapping's names and cost.
+    pub fn info(self) -> MappingInfo1d {
+        match self {
+            Mapping::Direct => MappingInfo1d {
+                name: "direct",
+                legend: "",
+                label: "direct mapping",
+                summary: "particles as quadrature points (book Eqs. 4.5-4.10)",
+                extra_ns_per_particle_step: 0.0,
+            },
+            Mapping::Tls => MappingInfo1d {
+                name: "tls",
+                legend: "TLS",
+                label: "TLS mapping",
+                summary: "Taylor least squares (book §4.4.3, TLS paper §5.4)",
+                extra_ns_per_particle_step: 200.0,
+            },
+            Mapping::CubicSpline => MappingInfo1d {
+                name: "cubic-spline",
+                legend: "CS",
+                label: "cubic-spline mapping",
+                summary: "cubic splines (thesis ch. 7), at the thesis' half-span Gauss points",
+                extra_ns_per_particle_step: 200.0,
+            },
+            Mapping::CubicSplineClipped => MappingInfo1d {
+                name: "cubic-spline-clipped",
+                legend: "CS (clipped)",
+                label: "clipped cubic-spline mapping",
+                summary: "cubic splines with every half span clipped to the continuum Ω_t",
+                extra_ns_per_particle_step: 200.0,
+            },
+        }
+    }
+
+    /// The mapping's name in JSON and on the command line.
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    /// The mapping of a name, if one is registered under it.
+    pub fn from_name(name: &str) -> Option<Mapping> {
+        Mapping::ALL.into_iter().find(|m| m.name() == name)
+    }
 }
 
 /// How the consistent system M^C v = p is solved.

@@ -46,7 +46,7 @@ pub mod table;
 pub mod trace;
 pub mod visibility;
 
-use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::mpm::mapping::{ConsistentSolver, MassMatrix};
 use crate::scenes::Discretisation;
 
 /// Bytes of memory per byte of an input file while it is parsed (the text,
@@ -57,12 +57,7 @@ pub const INPUT_MEMORY_FACTOR: u64 = 4;
 /// A 1D discretisation in words: `BSMPM-p2 with direct mapping and lumped
 /// mass`.
 pub fn method_label_1d(d: &Discretisation) -> String {
-    let mapping = match d.velocity_mapping {
-        Mapping::Direct => "direct mapping",
-        Mapping::Tls => "TLS mapping",
-        Mapping::CubicSpline => "cubic-spline mapping",
-        Mapping::CubicSplineClipped => "clipped cubic-spline mapping",
-    };
+    let mapping = d.velocity_mapping.info().label;
     let mass = match d.mass {
         MassMatrix::Lumped => "lumped mass".to_string(),
         MassMatrix::Consistent(ConsistentSolver::Cholesky) => "consistent mass (Cholesky)".into(),

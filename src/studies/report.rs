@@ -16,7 +16,6 @@ use super::{
     StabilityPoint, WorkPoint,
 };
 use crate::error::Result;
-use crate::mpm::mapping::Mapping;
 use serde::Serialize;
 
 /// One Fig. 6 variant's errors at 5, 10, 20 and 40 cells.
@@ -83,11 +82,11 @@ fn convergence() -> Result<Vec<ConvergenceLine>> {
     fig6_variants()
         .into_iter()
         .map(|(m, map)| {
-            let suffix = match map {
-                Mapping::Direct => "",
-                Mapping::Tls => " + TLS",
-                Mapping::CubicSpline => " + CS",
-                Mapping::CubicSplineClipped => " + CS (clipped)",
+            let legend = map.info().legend;
+            let suffix = if legend.is_empty() {
+                String::new()
+            } else {
+                format!(" + {legend}")
             };
             let errors = fig6_errors(m, map)?;
             Ok(ConvergenceLine {

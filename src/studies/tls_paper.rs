@@ -32,11 +32,10 @@ use std::sync::{Mutex, OnceLock};
 /// with the lumped mass (standard MPM), a reconstruction with the
 /// consistent mass (TLS paper §5.4), solved by sparse Cholesky.
 pub fn mass_for(mapping: Mapping) -> MassMatrix {
-    match mapping {
-        Mapping::Direct => MassMatrix::Lumped,
-        Mapping::Tls | Mapping::CubicSpline | Mapping::CubicSplineClipped => {
-            MassMatrix::Consistent(ConsistentSolver::Cholesky)
-        }
+    if mapping == Mapping::Direct {
+        MassMatrix::Lumped
+    } else {
+        MassMatrix::Consistent(ConsistentSolver::Cholesky)
     }
 }
 

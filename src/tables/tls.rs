@@ -63,13 +63,16 @@ fn paper_name(method: Method) -> String {
 }
 
 /// The TLS paper's row label of a method with a mapping: "DDMPM",
-/// "DDMPM + cubic spline", "DDMPM + TLS" (Figs. 6 and 9).
+/// "DDMPM + cubic spline", "DDMPM + TLS" (Figs. 6 and 9); a mapping the
+/// paper does not name appends its registered name.
 fn variant_label(method: Method, mapping: Mapping) -> String {
     let suffix = match mapping {
-        Mapping::Direct => "",
-        Mapping::CubicSpline => " + cubic spline",
-        Mapping::CubicSplineClipped => " + cubic spline (clipped to Ω_t)",
-        Mapping::Tls => " + TLS",
+        Mapping::Direct => String::new(),
+        Mapping::CubicSpline => " + cubic spline".into(),
+        Mapping::CubicSplineClipped => " + cubic spline (clipped to Ω_t)".into(),
+        Mapping::Tls => " + TLS".into(),
+        #[allow(unreachable_patterns)]
+        other => format!(" + {}", other.name()),
     };
     format!("{}{suffix}", paper_name(method))
 }

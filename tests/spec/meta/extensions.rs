@@ -138,3 +138,56 @@ fn aligned_methods_keep_their_json_and_labels_through_the_registration() {
         assert!(serde_json::from_str::<AlignedMethod>(bad).is_err(), "{bad}");
     }
 }
+
+/// Issue #37: a 1D mapping is one registration, as a 2D one: its name in
+/// JSON (serde's) is its registered name, `from_name` finds it, the
+/// command line offers every registered mapping with its summary, and the
+/// method label in words uses its label.
+#[test]
+fn every_registered_1d_mapping_keeps_its_name_json_and_help_through_the_registration() {
+    use hompm::mpm::mapping::Mapping;
+    let words = |t: &str| t.split_whitespace().collect::<Vec<_>>().join(" ");
+    let help = words(&hompm::cli::run(["run", "--help"]).unwrap().stdout);
+    for m in Mapping::ALL {
+        let info = m.info();
+        assert_eq!(
+            serde_json::to_value(m).unwrap(),
+            serde_json::json!(info.name)
+        );
+        assert_eq!(Mapping::from_name(info.name), Some(m));
+        assert!(
+            help.contains(info.name) && help.contains(&words(info.summary)),
+            "{}",
+            info.name
+        );
+        let d = hompm::scenes::Discretisation::new(
+            hompm::mpm::grid::Method::Mpm,
+            m,
+            hompm::mpm::mapping::MassMatrix::Lumped,
+            4,
+            2,
+        );
+        assert!(hompm::oracle::method_label_1d(&d).contains(info.label));
+    }
+    assert_eq!(Mapping::from_name("nope"), None);
+    let out = hompm::cli::run([
+        "run",
+        "vibrating-bar",
+        "--cells",
+        "4",
+        "--ppc",
+        "2",
+        "--steps",
+        "1",
+        "--dt",
+        "1e-4",
+        "--mapping",
+        "cubic-spline-clipped",
+        "--mass",
+        "consistent",
+        "--json",
+    ])
+    .unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    assert_eq!(doc["mapping"], "cubic-spline-clipped");
+}

@@ -94,7 +94,7 @@ fn rigid_translation_creates_no_stress() {
         // Width 5: the step's loops with the width read at run time.
         Method::Bsmpm { degree: 4 },
     ] {
-        for mapping in [Mapping::Direct, Mapping::Tls, Mapping::CubicSpline] {
+        for mapping in Mapping::ALL {
             let grid = if method == Method::DDMPM {
                 Grid::new(method, 0.0, 1.0, 4).unwrap()
             } else {
