@@ -217,6 +217,8 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
         let ours = map.ours(&name);
         if known.contains(&ours) {
             out.column(ours.to_string(), values)?;
+        } else if let Some(problem) = misshapen(ours, two_d) {
+            return Err(Error::Input(problem));
         } else {
             ignored.push(name);
         }
@@ -233,6 +235,63 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
     }
     out.ignored = ignored;
     Ok(out)
+}
+
+/// hompm's particle quantities and how many numbers each has per particle
+/// in 1D and in 2D (0: not a 1D quantity); [`known_columns`] lists their
+/// columns.
+const QUANTITIES: [(&str, usize, usize); 9] = [
+    ("id", 1, 1),
+    ("x0", 1, 2),
+    ("x", 1, 2),
+    ("u", 1, 2),
+    ("v", 1, 2),
+    ("stress", 1, 4),
+    ("F", 0, 4),
+    ("volume", 1, 1),
+    ("density", 1, 1),
+];
+
+/// Why a column that is not one of hompm's must not be ignored: it is
+/// one of hompm's quantities in another shape (issue #35's fuzz: a JSON
+/// `volume` of [v, v] pairs became `volume_x`/`volume_y`, a 2D `u` of
+/// single numbers stayed `u`, and both were dropped while the check agreed
+/// on the rest). A component (`u_x`, `stress_xy`) of a quantity that has
+/// none in this dimension, or one number per particle under the name of a
+/// 2D vector or tensor of the physics (u, v, stress, F), is refused.
+fn misshapen(name: &str, two_d: bool) -> Option<String> {
+    const SUFFIXES: [&str; 6] = ["_xx", "_xy", "_yx", "_yy", "_x", "_y"];
+    let dimension = if two_d { "2D" } else { "1D" };
+    let shape = |width: usize| match width {
+        1 => "one number per particle",
+        2 => "an [x, y] pair per particle (columns _x, _y)",
+        _ => "an [xx, xy, yx, yy] row per particle (columns _xx, _xy, _yx, _yy)",
+    };
+    let width_of = |base: &str| {
+        QUANTITIES
+            .iter()
+            .find(|(q, _, _)| *q == base)
+            .map(|&(_, one, two)| if two_d { two } else { one })
+    };
+    let component = SUFFIXES.iter().find_map(|suffix| {
+        let base = name.strip_suffix(suffix)?;
+        width_of(base).filter(|&w| w > 0).map(|w| (base, w))
+    });
+    if let Some((base, width)) = component {
+        return Some(format!(
+            "column '{}' is a component of '{base}', which hompm's {dimension} run has as {}; map it with --columns or write '{base}' in that shape",
+            short(name),
+            shape(width)
+        ));
+    }
+    let physics = ["u", "v", "stress", "F"];
+    match width_of(name) {
+        Some(width) if width > 1 && physics.contains(&name) => Some(format!(
+            "column '{name}' has one number per particle, but hompm's {dimension} '{name}' is {}",
+            shape(width)
+        )),
+        _ => None,
+    }
 }
 
 /// A number from a CSV cell or JSON value, finite, or an error naming where.

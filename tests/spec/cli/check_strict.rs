@@ -163,6 +163,69 @@ fn a_third_component_on_a_2d_vector_entry_is_refused_not_ignored() {
     }
 }
 
+/// The fuzz campaign of issue #35 (scripts/fuzz_check.py): a column under
+/// one of hompm's names in another shape was split or kept under a name
+/// that is not hompm's, dropped as "not compared", and the check agreed on
+/// the rest. Every entry of 1D `volume` or `u` as an [a, a] pair, a 2D `u`,
+/// `v` or `F` of single numbers, 2D `stress` as pairs or `u` as 4-wide rows:
+/// each is refused, naming the quantity and the shape hompm has.
+#[test]
+fn a_column_of_hompm_s_name_in_another_shape_is_refused_not_dropped() {
+    let wrap = |v: &Value, width: usize| -> Value {
+        json!(v
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| {
+                let x = if e.is_array() {
+                    e[0].clone()
+                } else {
+                    e.clone()
+                };
+                if width == 1 {
+                    x
+                } else {
+                    json!(vec![x; width])
+                }
+            })
+            .collect::<Vec<_>>())
+    };
+    let base = doc("run", SETUP_1D);
+    for (column, needle) in [
+        ("volume", "column 'volume_x' is a component of 'volume', which hompm's 1D run has as one number per particle"),
+        ("u", "column 'u_x' is a component of 'u'"),
+    ] {
+        let mut d = base.clone();
+        d["particles"][column] = wrap(&d["particles"][column], 2);
+        check(SETUP_1D, "shape.json", &text(&d), &[]).refused(needle);
+    }
+    let base = doc("run", SETUP_2D);
+    for (column, width, needle) in [
+        (
+            "u",
+            1,
+            "column 'u' has one number per particle, but hompm's 2D 'u' is an [x, y] pair",
+        ),
+        ("v", 1, "hompm's 2D 'v' is an [x, y] pair"),
+        (
+            "deformation_gradient",
+            1,
+            "hompm's 2D 'F' is an [xx, xy, yx, yy] row",
+        ),
+        ("stress", 2, "column 'stress_x' is a component of 'stress'"),
+        ("u", 4, "column 'u_xx' is a component of 'u'"),
+    ] {
+        let mut d = base.clone();
+        d["particles"][column] = wrap(&d["particles"][column], width);
+        check(SETUP_2D, "shape2d.json", &text(&d), &[]).refused(needle);
+    }
+    // The same in CSV: a 1D code's `u_x` is refused, and `--columns u=u_x`
+    // reads it.
+    let csv = particles_csv(SETUP_1D).replacen(",u,", ",u_x,", 1);
+    check(SETUP_1D, "shape.csv", &csv, &[]).refused("column 'u_x' is a component of 'u'");
+    check(SETUP_1D, "shape.csv", &csv, &["--columns", "u=u_x"]).agrees();
+}
+
 #[test]
 fn a_json_key_given_twice_is_refused_in_particles_trace_headers_and_steps() {
     let run = output("run", SETUP_1D, &["--json"]);

@@ -418,7 +418,8 @@ fn derived_bases() -> &'static (serde_json::Value, serde_json::Value) {
 }
 
 /// A mutation of hompm's valid output that must never be called "agrees"
-/// (issue #35's families): a value of the wrong type, a key given twice,
+/// (issue #35's families): a value of the wrong type, a column of another
+/// shape, a key given twice,
 /// a quantity of another length at some step, a step renumbered, an x0
 /// or id that contradicts the other, a huge finite value, a value changed
 /// by 1e-6 relative. Returns the file's text.
@@ -447,6 +448,20 @@ fn derived_mutation(family: u8, at: usize, pick: usize) -> String {
     let key = keys[at % keys.len()];
     let step = at % 5;
     match family % 8 {
+        0 if pick % 3 == 2 => {
+            // Every entry of a column as an [a, a] pair or [a, a, a, a] row:
+            // hompm's name in another shape (the fuzz campaign's find).
+            let mut d = run.clone();
+            let width = if pick.is_multiple_of(2) { 2 } else { 4 };
+            let entries: Vec<serde_json::Value> = d["particles"][column]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|e| json!(vec![e.clone(); width]))
+                .collect();
+            d["particles"][column] = json!(entries);
+            text(&d)
+        }
         0 => {
             let mut d = run.clone();
             d["particles"][column] = bad[pick % bad.len()].clone();
