@@ -48,17 +48,19 @@
 //! [`DEFAULT_RTOL`], [`DEFAULT_ATOL`], [`PHYSICAL_FIELDS`],
 //! [`field_columns`].
 
+use super::columns::x0_columns;
+pub use super::columns::{field_columns, PHYSICAL_FIELDS};
 use super::compare::{
     compare_field, exact_errors, first_difference, saturate, sci, Tolerance, TraceComparison,
 };
-pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt, PHYSICAL_FIELDS};
+pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt};
 use super::exact::{exact_1d, exact_2d};
 use super::input::Input;
 use super::provenance::check_steps;
 pub use super::provenance::{check_header, check_metadata};
 use super::setup::Setup;
 pub use super::state::MatchBy;
-use super::state::{match_particles, state_of_trace, x0_columns, State};
+use super::state::{match_particles, state_of_trace, State};
 use super::trace::{Equation, Trace, EQUATIONS_1D, EQUATIONS_2D};
 use super::visibility::TimeResolution;
 use crate::error::{Error, Result};
@@ -159,35 +161,6 @@ impl CheckReport {
         self.verdict.push_str(&r.sentence);
         self.time_resolution = Some(r);
         self
-    }
-}
-
-/// The fields and their columns, in the order a report lists them.
-pub fn field_columns(two_d: bool) -> &'static [(&'static str, &'static [&'static str])] {
-    if two_d {
-        &[
-            ("u", &["u_x", "u_y"]),
-            ("v", &["v_x", "v_y"]),
-            (
-                "stress",
-                &["stress_xx", "stress_yy", "stress_xy", "stress_yx"],
-            ),
-            ("F", &["F_xx", "F_xy", "F_yx", "F_yy"]),
-            ("x0", &["x0_x", "x0_y"]),
-            ("x", &["x_x", "x_y"]),
-            ("volume", &["volume"]),
-            ("density", &["density"]),
-        ]
-    } else {
-        &[
-            ("u", &["u"]),
-            ("v", &["v"]),
-            ("stress", &["stress"]),
-            ("x0", &["x0"]),
-            ("x", &["x"]),
-            ("volume", &["volume"]),
-            ("density", &["density"]),
-        ]
     }
 }
 

@@ -18,18 +18,13 @@
 //! Items: [`Tolerance`], [`Pair`], [`ValueAt`], [`FieldReport`],
 //! [`FirstDifference`], [`TraceComparison`], [`compare_field`],
 //! [`exact_errors`], [`first_difference`], [`saturate`], [`scale_of`],
-//! [`sci`], [`PHYSICAL_FIELDS`].
+//! [`sci`].
 
 use super::input::ParticleTable;
 use super::trace::{Equation, Trace};
 use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::BTreeMap;
-
-/// The fields of which `check` must compare at least one to say
-/// "agrees": the solution itself, not the positions or the volumes
-/// that follow from it.
-pub const PHYSICAL_FIELDS: [&str; 4] = ["u", "v", "stress", "F"];
 
 /// The tolerance rule: a value fails when |d| > atol·scale and
 /// |d| > rtol·|hompm| (`oracle::check`'s module docs).

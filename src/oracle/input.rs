@@ -20,40 +20,13 @@
 //! Items: [`ParticleTable`], [`Input`], [`read_input`], [`parse_input`],
 //! [`known_columns`], [`ColumnMap`].
 
+pub use super::columns::known_columns;
+use super::columns::{quantity, PHYSICAL_FIELDS};
 pub use super::table::ParticleTable;
 use super::table::{finite, short, Parsed, ParsedTable, TableBuilder};
 use super::trace::{Trace, TraceStep, TRACE_SCHEMA, TRACE_VERSION};
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;
-
-/// hompm's particle columns in 1D or 2D.
-pub fn known_columns(two_d: bool) -> &'static [&'static str] {
-    if two_d {
-        &[
-            "id",
-            "x0_x",
-            "x0_y",
-            "x_x",
-            "x_y",
-            "u_x",
-            "u_y",
-            "v_x",
-            "v_y",
-            "stress_xx",
-            "stress_yy",
-            "stress_xy",
-            "stress_yx",
-            "F_xx",
-            "F_xy",
-            "F_yx",
-            "F_yy",
-            "volume",
-            "density",
-        ]
-    } else {
-        &["id", "x0", "x", "u", "v", "stress", "volume", "density"]
-    }
-}
 
 /// What a file holds.
 #[derive(Debug, Clone, PartialEq)]
@@ -237,21 +210,6 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
     Ok(out)
 }
 
-/// hompm's particle quantities and how many numbers each has per particle
-/// in 1D and in 2D (0: not a 1D quantity); [`known_columns`] lists their
-/// columns.
-const QUANTITIES: [(&str, usize, usize); 9] = [
-    ("id", 1, 1),
-    ("x0", 1, 2),
-    ("x", 1, 2),
-    ("u", 1, 2),
-    ("v", 1, 2),
-    ("stress", 1, 4),
-    ("F", 0, 4),
-    ("volume", 1, 1),
-    ("density", 1, 1),
-];
-
 /// Why a column that is not one of hompm's must not be ignored: it is
 /// one of hompm's quantities in another shape (issue #35's fuzz: a JSON
 /// `volume` of [v, v] pairs became `volume_x`/`volume_y`, a 2D `u` of
@@ -267,12 +225,7 @@ fn misshapen(name: &str, two_d: bool) -> Option<String> {
         2 => "an [x, y] pair per particle (columns _x, _y)",
         _ => "an [xx, xy, yx, yy] row per particle (columns _xx, _xy, _yx, _yy)",
     };
-    let width_of = |base: &str| {
-        QUANTITIES
-            .iter()
-            .find(|(q, _, _)| *q == base)
-            .map(|&(_, one, two)| if two_d { two } else { one })
-    };
+    let width_of = |base: &str| quantity(base).map(|q| q.columns(two_d).len());
     let component = SUFFIXES.iter().find_map(|suffix| {
         let base = name.strip_suffix(suffix)?;
         width_of(base).filter(|&w| w > 0).map(|w| (base, w))
@@ -284,9 +237,8 @@ fn misshapen(name: &str, two_d: bool) -> Option<String> {
             shape(width)
         ));
     }
-    let physics = ["u", "v", "stress", "F"];
     match width_of(name) {
-        Some(width) if width > 1 && physics.contains(&name) => Some(format!(
+        Some(width) if width > 1 && PHYSICAL_FIELDS.contains(&name) => Some(format!(
             "column '{name}' has one number per particle, but hompm's {dimension} '{name}' is {}",
             shape(width)
         )),

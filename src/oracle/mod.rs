@@ -14,6 +14,7 @@
 //! - [`equations`]: the traced quantities' keys and citations;
 //! - [`trace`]: the quantities of each numbered equation of the 1D step
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
+//! - [`columns`]: the column schema of the particles, declared once;
 //! - [`input`]: the other code's particles or trace, in CSV or JSON,
 //!   read strictly ([`input_json`] for JSON) into a [`table`] of named
 //!   columns;
@@ -27,11 +28,12 @@
 //! - [`convergence`](mod@convergence): observed orders over resolutions;
 //! - [`visibility`]: what the tolerance can see at a check's Δt.
 //!
-//! Items: [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`table`], [`provenance`], [`state`],
+//! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`table`], [`provenance`], [`state`],
 //! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
 //! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
 
 pub mod check;
+pub mod columns;
 pub mod compare;
 pub mod convergence;
 pub mod equations;

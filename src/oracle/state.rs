@@ -11,8 +11,12 @@
 //! [`Error::Input`] naming the row.
 //!
 //! Items: [`State`], [`MatchBy`], [`state_1d`], [`state_2d`],
-//! [`state_of_trace`], [`match_particles`], [`x0_columns`].
+//! [`state_of_trace`], [`match_particles`].
+//!
+//! Its columns are those of the oracle's column schema, `oracle::columns`
+//! (tested: hompm's own state has exactly the known columns).
 
+use super::columns::x0_columns;
 use super::setup::{Setup1d, Setup2d};
 use super::table::{ParticleTable, TableBuilder};
 use super::trace::TraceStep;
@@ -49,15 +53,6 @@ pub struct State {
     pub method: String,
     /// Whether the scene is 2D.
     pub two_d: bool,
-}
-
-/// The initial-position columns of a dimension.
-pub fn x0_columns(two_d: bool) -> &'static [&'static str] {
-    if two_d {
-        &["x0_x", "x0_y"]
-    } else {
-        &["x0"]
-    }
 }
 
 /// The other code's initial positions, if it gives them: `None` without

@@ -27,7 +27,8 @@
 //!
 //! Items: [`TimeResolution`], [`FieldResolution`], [`time_resolution`].
 
-use super::compare::{saturate, scale_of, Tolerance, PHYSICAL_FIELDS};
+use super::columns::PHYSICAL_FIELDS;
+use super::compare::{saturate, scale_of, Tolerance};
 use super::run::reference;
 use super::setup::Setup;
 use super::state::State;

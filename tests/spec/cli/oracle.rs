@@ -977,3 +977,59 @@ fn bad_arguments_to_exact_trace_and_check_are_one_line_and_exit_2() {
         }
     }
 }
+
+/// Issue #37: the oracle's columns are declared once
+/// (`oracle::columns::QUANTITIES`). hompm's own state has exactly the known
+/// columns of its dimension, in their order; every compared field's columns
+/// are known; the physical fields are the schema's physical quantities; and
+/// x0's columns are the schema's.
+#[test]
+fn hompm_s_own_state_has_exactly_the_schema_s_columns_in_1d_and_2d() {
+    use hompm::oracle::columns::{
+        field_columns, known_columns, x0_columns, PHYSICAL_FIELDS, QUANTITIES,
+    };
+    let one = Setup::OneD(bar(Method::Mpm, Mapping::Direct, MassMatrix::Lumped, 2));
+    for (setup, two_d) in [(one, false), (aligned(0.01, 1e7), true)] {
+        let (state, _) = reference(&setup, None).unwrap();
+        assert_eq!(state.two_d, two_d);
+        let names: Vec<&str> = state
+            .particles
+            .columns
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect();
+        assert_eq!(names, known_columns(two_d));
+        for (field, columns) in field_columns(two_d) {
+            assert!(
+                columns.iter().all(|c| known_columns(two_d).contains(c)),
+                "{field}"
+            );
+        }
+        assert_eq!(
+            x0_columns(two_d),
+            QUANTITIES
+                .iter()
+                .find(|q| q.name == "x0")
+                .unwrap()
+                .columns(two_d)
+        );
+    }
+    let physical: Vec<&str> = QUANTITIES
+        .iter()
+        .filter(|q| q.physical)
+        .map(|q| q.name)
+        .collect();
+    assert_eq!(physical, PHYSICAL_FIELDS);
+    assert_eq!(
+        known_columns(false),
+        ["id", "x0", "x", "u", "v", "stress", "volume", "density"]
+    );
+    assert_eq!(known_columns(true).len(), 19);
+    let order: Vec<&str> = field_columns(true).iter().map(|(f, _)| *f).collect();
+    assert_eq!(
+        order,
+        ["u", "v", "stress", "F", "x0", "x", "volume", "density"]
+    );
+    let order: Vec<&str> = field_columns(false).iter().map(|(f, _)| *f).collect();
+    assert_eq!(order, ["u", "v", "stress", "x0", "x", "volume", "density"]);
+}
