@@ -18,12 +18,14 @@
 //!
 //! Items: [`Exact1d`], [`Exact2d`], [`exact_1d`], [`exact_2d`],
 //! [`column_closed_form`], [`reference_kind`], [`formulas_1d`],
-//! [`formulas_2d`].
+//! [`formulas_2d`], [`ExactTable`], [`exact_table`].
 
-use super::setup::Scene1d;
-use crate::error::Result;
+use super::setup::{Scene1d, Setup, Setup1d};
+use crate::error::{Error, Result};
 use crate::mpm::musl::Constitutive;
+use crate::mpm::particles::Particles;
 use crate::mpm2d::NeoHookean;
+use crate::mpm2d::Particles2d;
 use crate::scenes::aligned_vibration::AlignedVibration;
 use crate::scenes::column::ColumnParameters;
 use serde::Serialize;
@@ -259,4 +261,155 @@ pub fn formulas_2d(as_printed: bool) -> serde_json::Value {
             "b = ü − ∇_X·P/ρ0: b_x = (π² u_x/L²)(4μ/ρ0 − c² − 4[λ(ln J − 1) − μ]/(ρ0 F_xx²)), b_y likewise (Eq. 42 prints π; docs/derivations.md)"
         },
     })
+}
+
+/// The exact fields of a setup at its particles' initial positions (or at
+/// `at`, 2D as x, y pairs), at time t: the columns `hompm exact` prints
+/// and what they are (`meta`: scene, kind, formulas).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactTable {
+    /// The fields by name, one value per point: 1D x0, u, v, strain,
+    /// stress; 2D x0, u, v (pairs), F, J, P, stress (rows) and b.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// The scene, the kind of solution and its formulas.
+    pub meta: serde_json::Value,
+}
+
+/// [`ExactTable`] of `setup` at time `time`: 1D thesis Eq. (4.1) / (4.2),
+/// book Eqs. (4.50)–(4.52); 2D MLS paper Eqs. (38)–(42) (`as_printed`:
+/// Eq. 42 with π). A point outside [0, L] (1D) or [0, L]² (2D) is
+/// [`Error::OutsideDomain`], a non-finite field [`Error::NonFinite`].
+pub fn exact_table(
+    setup: &Setup,
+    at: Option<&[f64]>,
+    time: f64,
+    as_printed: bool,
+) -> Result<ExactTable> {
+    let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut push = |name: &str, v: f64| match columns.iter_mut().find(|(k, _)| k == name) {
+        Some((_, c)) => c.push(v),
+        None => columns.push((name.to_string(), vec![v])),
+    };
+    let meta = match setup {
+        Setup::OneD(s1) => {
+            let x0 = match at {
+                None => layout_1d(s1)?,
+                Some(at) => at.to_vec(),
+            };
+            let (lo, hi) = (0.0, s1.scene.length());
+            for &x in &x0 {
+                if !(lo..=hi).contains(&x) {
+                    return Err(Error::OutsideDomain { x, a: lo, b: hi });
+                }
+                let e = exact_1d(&s1.scene, x, time);
+                for (k, v) in [
+                    ("x0", x),
+                    ("u", e.u),
+                    ("v", e.v),
+                    ("strain", e.strain),
+                    ("stress", e.stress),
+                ] {
+                    push(k, v);
+                }
+            }
+            serde_json::json!({
+                "scene": s1.scene,
+                "kind": reference_kind(&s1.scene),
+                "formulas": formulas_1d(&s1.scene),
+            })
+        }
+        Setup::TwoD(s2) => {
+            if !at.map_or(0, <[f64]>::len).is_multiple_of(2) {
+                return Err(Error::InvalidArgument(format!(
+                    "--at takes x,y pairs in 2D; got {} numbers",
+                    at.map_or(0, <[f64]>::len)
+                )));
+            }
+            let x0: Vec<[f64; 2]> = if at.is_none() {
+                Particles2d::cell_centred(
+                    s2.scene.length,
+                    s2.cells,
+                    s2.per_side,
+                    s2.scene.density,
+                    |_| [0.0; 2],
+                )?
+                .x0
+            } else {
+                at.unwrap_or_default()
+                    .chunks(2)
+                    .map(|c| [c[0], c[1]])
+                    .collect()
+            };
+            let l = s2.scene.length;
+            for x in &x0 {
+                crate::error::finite("--at", x[0])?;
+                crate::error::finite("--at", x[1])?;
+                // The square [0, L]², as 1D refuses a point outside [0, L].
+                for &c in x {
+                    if !(0.0..=l).contains(&c) {
+                        return Err(Error::OutsideDomain { x: c, a: 0.0, b: l });
+                    }
+                }
+                let e = exact_2d(&s2.scene, *x, time, as_printed)?;
+                let m = |name: &str, v: [f64; 4]| {
+                    [
+                        (format!("{name}_xx"), v[0]),
+                        (format!("{name}_xy"), v[1]),
+                        (format!("{name}_yx"), v[2]),
+                        (format!("{name}_yy"), v[3]),
+                    ]
+                };
+                let mut all = vec![
+                    ("x0_x".to_string(), x[0]),
+                    ("x0_y".into(), x[1]),
+                    ("u_x".into(), e.u[0]),
+                    ("u_y".into(), e.u[1]),
+                    ("v_x".into(), e.v[0]),
+                    ("v_y".into(), e.v[1]),
+                ];
+                all.extend(m("F", e.deformation));
+                all.push(("J".into(), e.jacobian));
+                all.extend(m("P", e.first_piola));
+                all.extend(m("stress", e.stress));
+                all.push(("b_x".into(), e.body_force[0]));
+                all.push(("b_y".into(), e.body_force[1]));
+                for (k, v) in all {
+                    push(&k, v);
+                }
+            }
+            serde_json::json!({
+                "scene": s2.scene,
+                "params_set": s2.set_name,
+                "kind": "manufactured solution (MLS paper Eqs. 38-42)",
+                "formulas": formulas_2d(as_printed),
+            })
+        }
+    };
+    if let Some((name, values)) = columns
+        .iter()
+        .find(|(_, v)| v.iter().any(|x| !x.is_finite()))
+    {
+        let bad = values
+            .iter()
+            .copied()
+            .find(|x| !x.is_finite())
+            .unwrap_or(f64::NAN);
+        return Err(Error::NonFinite {
+            what: format!("the exact {name} at t = {time:e}"),
+            value: bad,
+        });
+    }
+    Ok(ExactTable { columns, meta })
+}
+
+/// The initial particle positions of a 1D setup.
+fn layout_1d(s: &Setup1d) -> Result<Vec<f64>> {
+    let d = &s.discretisation;
+    let count = d.cells.checked_mul(d.ppc).ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "{} cells × {} PPC overflow a count",
+            d.cells, d.ppc
+        ))
+    })?;
+    Ok(Particles::uniform(0.0, s.scene.length(), count, 1.0)?.x0)
 }

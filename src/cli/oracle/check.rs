@@ -1,0 +1,213 @@
+//! # `hompm check`
+//!
+//! Another code's output against hompm's run of the same setup
+//! (`oracle::check`), or several resolutions' outputs against hompm's
+//! observed orders (`oracle::convergence`). Exit 0 agrees, 1 differs (the
+//! report is printed first), 2 unusable input.
+//!
+//! Items: [`check`].
+
+use super::super::limits::Limits;
+use super::super::{json, Output};
+use super::{as_usage, CheckArgs, MatchArg};
+use crate::error::{Error, Result};
+use crate::oracle::check::{check as compare, CheckOptions, MatchBy};
+use crate::oracle::compare::sci;
+use crate::oracle::convergence::convergence;
+use crate::oracle::input::{parse_input, read_input, ColumnMap, Input};
+use crate::oracle::run::reference;
+use crate::oracle::setup::Setup;
+use crate::oracle::trace::{header_1d, header_2d};
+use crate::oracle::visibility::time_resolution;
+
+/// Reads and parses one input file.
+fn read(path: &std::path::Path, a: &CheckArgs, limits: &Limits) -> Result<(Input, Vec<String>)> {
+    let text = read_input(path, limits.max_memory)?;
+    parse_input(&text, &ColumnMap::parse(&a.columns)?, a.setup.two_d())
+}
+
+/// `hompm check`.
+pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
+    let options = CheckOptions {
+        rtol: a.rtol,
+        atol: a.atol,
+        match_by: match a.match_by {
+            MatchArg::Auto => MatchBy::Auto,
+            MatchArg::Id => MatchBy::Id,
+            MatchArg::X0 => MatchBy::X0,
+            MatchArg::Order => MatchBy::Order,
+        },
+    };
+    for (name, v) in [("--rtol", a.rtol), ("--atol", a.atol)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(Error::Usage(format!(
+                "{name} must be finite and at least 0, got {v}"
+            )));
+        }
+    }
+    if !a.convergence.is_empty() {
+        return check_convergence(&a, &options, limits);
+    }
+    let Some(path) = a.input.as_deref() else {
+        return Err(Error::Usage(
+            "--input FILE or --convergence FILE… is required".into(),
+        ));
+    };
+    let setup = a.setup.setup().map_err(as_usage)?;
+    a.setup.check_limits(&setup, limits, 0.0)?;
+    let (input, ignored) = read(path, &a, limits)?;
+    let only = match &input {
+        Input::Trace(t) => {
+            let ours = match &setup {
+                Setup::OneD(s) => header_1d(s)?,
+                Setup::TwoD(s) => header_2d(s)?,
+            };
+            crate::oracle::check::check_header(&t.header, &ours)?;
+            Some(t.steps.iter().map(|s| s.step).collect())
+        }
+        Input::Particles(_) => None,
+    };
+    let (state, ours) = reference(&setup, only)?;
+    let mut report = compare(&setup, &state, &input, ours.as_ref(), &options)?;
+    if report.agrees && matches!(input, Input::Particles(_)) {
+        let compared = report.compared_columns();
+        if let Some(r) = time_resolution(&setup, &state, &compared, &options.tolerance())? {
+            report = report.with_time_resolution(r);
+        }
+    }
+    let mut warnings = Vec::new();
+    if !ignored.is_empty() {
+        let shown: Vec<&str> = ignored.iter().take(10).map(String::as_str).collect();
+        let more = ignored.len().saturating_sub(shown.len());
+        warnings.push(format!(
+            "ignored columns that are not hompm's: {}{} (map them with --columns ours=theirs)",
+            shown.join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        ));
+    }
+    let stdout = if a.json {
+        json::strict(&report)?
+    } else {
+        report_text(&report)
+    };
+    let failure = (!report.agrees).then(|| {
+        Error::Differs(
+            report
+                .verdict
+                .lines()
+                .next()
+                .unwrap_or("differs from hompm")
+                .to_string(),
+        )
+    });
+    Ok(Output {
+        stdout,
+        warnings,
+        failure,
+    })
+}
+
+/// The report in words and a table of fields, in the order compared.
+fn report_text(r: &crate::oracle::check::CheckReport) -> String {
+    let mut out = format!(
+        "{}\n\nhompm: {}; {} particles matched by {}; exact solution at t = {:e}\n",
+        r.verdict, r.method, r.particles, r.matched_by, r.time
+    );
+    out.push_str(&format!(
+        "{:<8} {:>10} {:>10} {:>10} {:>9} {:>9} {:>12} {:>12}\n",
+        "field", "max abs", "max rel", "tol abs", "particle", "failures", "RMS yours", "RMS hompm"
+    ));
+    for name in &r.compared_fields {
+        let Some(f) = r.fields.get(name) else {
+            continue;
+        };
+        let (ry, rh) = f.rms_exact.map_or(("-".into(), "-".into()), |p| {
+            (sci(p.yours, 4), sci(p.hompm, 4))
+        });
+        out.push_str(&format!(
+            "{name:<8} {:>10} {:>10} {:>10} {:>9} {:>9} {ry:>12} {rh:>12}\n",
+            sci(f.max_abs, 3),
+            sci(f.max_rel, 3),
+            sci(f.atol_abs, 3),
+            f.worst_particle,
+            f.failures
+        ));
+    }
+    if let Some(d) = &r.first_difference {
+        out.push_str(&format!(
+            "first difference: step {}, {} ({}), {} {} (absolute tolerance there {:.3e})\n",
+            d.step, d.equation, d.citation, d.index_kind, d.index, d.atol_abs
+        ));
+    }
+    out
+}
+
+/// `hompm check --convergence`.
+fn check_convergence(a: &CheckArgs, o: &CheckOptions, limits: &Limits) -> Result<Output> {
+    let mut runs = Vec::new();
+    let listed = &a.setup.cells;
+    if listed.len() > 1 && listed.len() != a.convergence.len() {
+        return Err(Error::Usage(format!(
+            "--cells lists {} resolutions for {} files; give one per file, in the files' order",
+            listed.len(),
+            a.convergence.len()
+        )));
+    }
+    let explicit = listed.len() == a.convergence.len() && listed.len() > 1;
+    for (k, path) in a.convergence.iter().enumerate() {
+        let (input, _) = read(path, a, limits)?;
+        let Input::Particles(table) = &input else {
+            return Err(Error::Input(format!(
+                "{}: --convergence reads final particles, not traces",
+                path.display()
+            )));
+        };
+        let cells = if explicit {
+            listed[k]
+        } else {
+            let text = table.metadata.get("cells").ok_or_else(|| {
+                Error::Input(format!(
+                    "{} names no cells (a '# cells: N' line or a JSON 'cells'); or list them with --cells N1,N2,…",
+                    path.display()
+                ))
+            })?;
+            super::super::args::count(text.trim_matches('"'))
+                .map_err(|e| Error::Input(format!("{}: cells {e}", path.display())))?
+        };
+        let setup = a.setup.setup_with_cells(cells).map_err(as_usage)?;
+        a.setup.check_limits(&setup, limits, 0.0)?;
+        let length = match &setup {
+            Setup::OneD(s) => s.scene.length(),
+            Setup::TwoD(s) => s.scene.length,
+        };
+        let (state, _) = reference(&setup, None)?;
+        runs.push((setup, state, input, cells, length));
+    }
+    runs.sort_by_key(|r| r.3);
+    let report = convergence(&runs, o)?;
+    let stdout = if a.json {
+        json::strict(&report)?
+    } else {
+        format!("{}\n", report.verdict)
+    };
+    let not_held: Vec<String> = report
+        .fields
+        .iter()
+        .filter(|(_, f)| f.verdict != crate::oracle::convergence::HOLDS)
+        .map(|(name, f)| format!("{name} {}", f.verdict))
+        .collect();
+    Ok(Output {
+        stdout,
+        warnings: Vec::new(),
+        failure: (!not_held.is_empty()).then(|| {
+            Error::Differs(format!(
+                "the observed order does not hold in every field: {}",
+                not_held.join("; ")
+            ))
+        }),
+    })
+}
