@@ -174,7 +174,12 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
             )));
         }
     }
-    if let Some(s) = scalars.iter().find(|s| known.contains(&map.ours(s))) {
+    // A single value under a column's name or a quantity's name (a 2D `u`
+    // is the quantity of the columns u_x, u_y): never metadata.
+    let names_a_quantity = |name: &str| {
+        known.contains(&name) || quantity(name).is_some_and(|q| !q.columns(two_d).is_empty())
+    };
+    if let Some(s) = scalars.iter().find(|s| names_a_quantity(map.ours(s))) {
         return Err(Error::Input(format!(
             "'{}' is one number, not a column: hompm's {} is an array with a value per particle",
             short(s),

@@ -219,6 +219,14 @@ fn a_column_of_hompm_s_name_in_another_shape_is_refused_not_dropped() {
         d["particles"][column] = wrap(&d["particles"][column], width);
         check(SETUP_2D, "shape2d.json", &text(&d), &[]).refused(needle);
     }
+    // A single value under a 2D quantity's name (the second fuzz seed's
+    // find: `"u": "x"` or `"u": 1.5` was kept as metadata).
+    for value in [json!("x"), json!(1.5)] {
+        let mut columns = base["particles"].clone();
+        columns["u"] = value;
+        check(SETUP_2D, "scalar2d.json", &text(&columns), &[])
+            .refused("'u' is one number, not a column");
+    }
     // The same in CSV: a 1D code's `u_x` is refused, and `--columns u=u_x`
     // reads it.
     let csv = particles_csv(SETUP_1D).replacen(",u,", ",u_x,", 1);
