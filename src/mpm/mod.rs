@@ -12,8 +12,9 @@
 //! - mass: lumped, or consistent through a sparse Cholesky or the thesis'
 //!   Richardson iteration.
 //!
-//! [`particles`] holds the material points (struct of arrays), [`musl`] the
-//! time step, [`diagnostics`] the error measures of the seeds and
+//! [`particles`] holds the material points (struct of arrays), [`method`]
+//! the variants by their basis, [`settings`] what a run is set up with,
+//! [`musl`] the time step, [`diagnostics`] the error measures of the seeds and
 //! [`monitor`] the stability monitor of `hompm run`. [`check_time_step`] is
 //! the one check of Δt that the 1D step, the 2D step and the FE reference
 //! share.
@@ -21,9 +22,11 @@
 pub mod diagnostics;
 pub mod grid;
 pub mod mapping;
+pub mod method;
 pub mod monitor;
 pub mod musl;
 pub mod particles;
+pub mod settings;
 
 /// The time step of a step must be positive and finite: [`Error::NotPositive`]
 /// naming "the time step" otherwise. The 1D step (`musl`), the 2D step

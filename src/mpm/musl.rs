@@ -33,20 +33,19 @@
 //! tests plant defects through it. [`Simulation::step`] passes
 //! [`NoObserver`], whose empty calls the compiler removes.
 //!
-//! Longer than 600 lines: the step's table of contents, the observer
-//! interface the oracle traces it through, and its checks sit with the
-//! step they describe.
+//! What a run is set up with, [`Settings`] and [`Constitutive`], is in
+//! [`super::settings`] (re-exported here).
 //!
-//! Items: [`Constitutive`], [`Settings`], [`StepWorkspace`], [`Simulation`],
-//! [`StepPoint`], [`StepObserver`], [`NoObserver`].
+//! Items: [`StepWorkspace`], [`Simulation`], [`StepPoint`],
+//! [`StepObserver`], [`NoObserver`].
 
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
-use super::mapping::{internal_force, project_velocity, Mapping, MappingWorkspace, MassMatrix};
+use super::mapping::{internal_force, project_velocity, MappingWorkspace};
 use super::particles::Particles;
+pub use super::settings::{Constitutive, Settings};
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
-use crate::reconstruct::taylor::CellAverage;
 use crate::spline::bspline::SpanScratch;
 use serde::Serialize;
 
@@ -100,46 +99,6 @@ impl StepObserver for NoObserver {
     fn observe(&mut self, _: StepPoint, _: &mut Simulation) -> Result<()> {
         Ok(())
     }
-}
-
-/// The constitutive update of step 7.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Constitutive {
-    /// σ ← σ + E Δε (book Eq. 4.15).
-    SmallStrain,
-    /// σ ← σ + (E − σ) Δε (book Eq. 4.16).
-    LargeStrain,
-}
-
-/// Everything a run needs besides the grid and the particles.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Settings {
-    /// Mapping of the internal force.
-    pub force_mapping: Mapping,
-    /// Mapping of the nodal velocity.
-    pub velocity_mapping: Mapping,
-    /// Mass matrix of the velocity projection.
-    pub mass: MassMatrix,
-    /// Constitutive update.
-    pub constitutive: Constitutive,
-    /// Young's modulus E.
-    pub young: f64,
-    /// Gravitational acceleration g (signed: −9.81 points down the axis).
-    pub gravity: f64,
-    /// If set, gravity ramps linearly from 0 to `gravity` over this time and
-    /// then stays (the body force of the column compaction, TLS paper §6.2).
-    pub gravity_ramp: Option<f64>,
-    /// DOFs with homogeneous Dirichlet conditions.
-    pub dirichlet: Vec<usize>,
-    /// Solve step 2 with the material-point consistent mass M^C = Σ m_p φφᵀ
-    /// (sparse Cholesky) instead of the lumped mass (CFL study; book Eq. 4.1).
-    pub consistent_acceleration: bool,
-    /// How the TLS density fit averages (x − x_c)² in ψ_3 (book Eq. 4.30):
-    /// exact, or with the TLS author's rounding (docs/conventions.md, "The
-    /// TLS author's cell average"). Not printed when exact.
-    #[serde(skip_serializing_if = "CellAverage::is_exact")]
-    pub tls_density_average: CellAverage,
 }
 
 /// The buffers of one step, allocated when the simulation starts: the basis
