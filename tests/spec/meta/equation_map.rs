@@ -385,6 +385,17 @@ impl Known {
     }
 }
 
+/// The identifier that `text` ends with (empty if it ends otherwise).
+fn identifier_ending(text: &str) -> String {
+    let start = text
+        .char_indices()
+        .rev()
+        .take_while(|(_, c)| c.is_alphanumeric() || *c == '_')
+        .last()
+        .map_or(text.len(), |(k, _)| k);
+    text[start..].to_string()
+}
+
 /// The receivers of the method calls `r.name(` / field uses `r.name` on
 /// `line`: the identifier right before the dot, with a leading `.` when it
 /// is itself a field (`self.grid.name(` gives `.grid`; `self.name(` gives
@@ -406,24 +417,10 @@ fn receivers(line: &str, name: &str) -> Vec<String> {
                     };
                     (depth == 0).then_some(k)
                 })?;
-                let f: String = head[..open]
-                    .chars()
-                    .rev()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect::<Vec<_>>()
-                    .into_iter()
-                    .rev()
-                    .collect();
+                let f = identifier_ending(&head[..open]);
                 return (!f.is_empty()).then(|| format!("{f})"));
             }
-            let before: String = line[..i]
-                .chars()
-                .rev()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect::<Vec<_>>()
-                .into_iter()
-                .rev()
-                .collect();
+            let before = identifier_ending(&line[..i]);
             let field = line[..i - before.len()].ends_with('.');
             (!before.is_empty()).then(|| if field { format!(".{before}") } else { before })
         })

@@ -33,11 +33,7 @@ fn layer_of(module: &str) -> Option<usize> {
 /// The top-level modules a source text refers to: `crate::x` paths and the
 /// `x::` heads inside `use crate::{…}` groups (comments skipped).
 fn referenced_modules(text: &str) -> Vec<String> {
-    let code: String = text
-        .lines()
-        .map(|l| l.split("//").next().unwrap_or(""))
-        .collect::<Vec<_>>()
-        .join("\n");
+    let code = without_comments(text);
     let ident = |s: &str| -> String {
         s.chars()
             .take_while(|c| c.is_alphanumeric() || *c == '_')
@@ -59,6 +55,14 @@ fn referenced_modules(text: &str) -> Vec<String> {
         }
     }
     out
+}
+
+/// `text` with every `//` comment cut off its line.
+fn without_comments(text: &str) -> String {
+    text.lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 #[test]
@@ -122,11 +126,7 @@ fn sibling_references(
     declared_in: &std::collections::BTreeMap<String, Vec<String>>,
     siblings: &[String],
 ) -> std::collections::BTreeSet<String> {
-    let code: String = text
-        .lines()
-        .map(|l| l.split("//").next().unwrap_or(""))
-        .collect::<Vec<_>>()
-        .join("\n");
+    let code = without_comments(text);
     let ident = |s: &str| -> String {
         s.trim_start()
             .chars()
