@@ -22,6 +22,7 @@ declare -A FILES=(
   [reconstruct]="src/reconstruct/*.rs"
   [mpm]="src/mpm/*.rs"
   [mpm2d]="src/mpm2d/*.rs"
+  [oracle]="src/oracle/*.rs"
 )
 declare -A TESTS=(
   [spline]="properties::properties_bspline book::golden_basis"
@@ -32,12 +33,13 @@ declare -A TESTS=(
   [reconstruct]="properties::properties_reconstruct tls::golden_tls_example mls::spec_mpm2d allocations"
   [mpm]="book::spec_musl_step tls::spec_ddmpm properties::properties_mpm thesis::golden_thesis tls::golden_tls_conservation properties::stability allocations cli::oracle::"
   [mpm2d]="mls::spec_mpm2d allocations cli::oracle::"
+  [oracle]="cli::check_strict cli::oracle cli::cli_fuzz cli::oracle_doc cli::check_claims"
 )
 # Extra cargo-mutants options, e.g. EXTRA="--shard 1/4" or EXTRA="--re fit";
 # OUT names the output directory under target/mutants (default: the module).
 read -r -a EXTRA <<< "${EXTRA:-}"
 modules=("$@")
-[ ${#modules[@]} -eq 0 ] && modules=(spline quadrature lagrange mass solve reconstruct mpm mpm2d)
+[ ${#modules[@]} -eq 0 ] && modules=(spline quadrature lagrange mass solve reconstruct mpm mpm2d oracle)
 for m in "${modules[@]}"; do
   args=()
   for f in ${FILES[$m]}; do args+=(--file "$f"); done

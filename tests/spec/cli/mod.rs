@@ -1,5 +1,6 @@
 //! Tests of one part of the specification; see tests/spec/main.rs.
 
+mod check_claims;
 mod check_strict;
 mod cli_contract;
 mod cli_fuzz;
