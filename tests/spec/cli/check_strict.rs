@@ -234,6 +234,29 @@ fn a_column_of_hompm_s_name_in_another_shape_is_refused_not_dropped() {
     check(SETUP_1D, "shape.csv", &csv, &["--columns", "u=u_x"]).agrees();
 }
 
+/// The other side of the shape rule: a column that is no quantity of the
+/// run's dimension in any shape is ignored (with a warning), not refused.
+/// 1D has no F, so a 1D file's F rows (F_xx …) are ignored; a 2D file's x
+/// as single numbers is a position, not a field of the physics, and is
+/// ignored while u, v, stress and F are compared.
+#[test]
+fn a_column_that_is_no_quantity_of_the_run_s_dimension_is_ignored_not_refused() {
+    let mut d = doc("run", SETUP_1D);
+    let n = d["particles"]["u"].as_array().unwrap().len();
+    d["particles"]["F"] = json!(vec![json!([1.0, 0.0, 0.0, 1.0]); n]);
+    let out = check(SETUP_1D, "f1d.json", &text(&d), &[]).agrees();
+    assert!(out.contains("agrees"), "{out}");
+    let mut d = doc("run", SETUP_2D);
+    let xs: Vec<Value> = d["particles"]["x"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p[0].clone())
+        .collect();
+    d["particles"]["x"] = json!(xs);
+    check(SETUP_2D, "x2d.json", &text(&d), &[]).agrees();
+}
+
 #[test]
 fn a_json_key_given_twice_is_refused_in_particles_trace_headers_and_steps() {
     let run = output("run", SETUP_1D, &["--json"]);
