@@ -22,18 +22,7 @@ use hompm::Error;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
-/// The thesis bar on 4 cells × 2 PPC, 5 steps (as in check_strict.rs).
-const SETUP_1D: &[&str] = &[
-    "vibrating-bar",
-    "--cells",
-    "4",
-    "--ppc",
-    "2",
-    "--dt",
-    "1e-3",
-    "--steps",
-    "5",
-];
+use super::check_strict::SETUP_1D;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("check-claims");
@@ -63,6 +52,17 @@ fn check(
     args.extend_from_slice(setup);
     args.extend_from_slice(&["--input", &p]);
     args.extend_from_slice(extra);
+    hompm::cli::run(&args)
+}
+
+/// `hompm check <SETUP_1D> --input FILE` on `text` written as it is.
+fn check_text(name: &str, text: impl AsRef<[u8]>) -> hompm::Result<hompm::cli::Output> {
+    let path = scratch(name);
+    std::fs::write(&path, text).unwrap();
+    let p = path.to_str().unwrap().to_string();
+    let mut args: Vec<&str> = vec!["check"];
+    args.extend_from_slice(SETUP_1D);
+    args.extend_from_slice(&["--input", &p]);
     hompm::cli::run(&args)
 }
 
@@ -469,13 +469,10 @@ fn a_bad_cell_of_a_csv_trace_is_refused_with_its_row_number() {
     let third = header + 3;
     let cells: Vec<&str> = lines[third].split(',').collect();
     lines[third] = format!("1.5,{}", cells[1..].join(","));
-    let path = scratch("row.csv");
-    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
-    let p = path.to_str().unwrap().to_string();
-    let mut args = vec!["check"];
-    args.extend_from_slice(SETUP_1D);
-    args.extend_from_slice(&["--input", &p]);
-    refused(hompm::cli::run(&args), "row 3: step must be a whole number");
+    refused(
+        check_text("row.csv", lines.join("\n") + "\n"),
+        "row 3: step must be a whole number",
+    );
 }
 
 #[test]
@@ -606,13 +603,10 @@ fn a_csv_trace_with_a_column_given_twice_is_refused_naming_it() {
             out.push_str(&format!("{line}\n"));
         }
     }
-    let path = scratch("twice.csv");
-    std::fs::write(&path, out).unwrap();
-    let p = path.to_str().unwrap().to_string();
-    let mut args = vec!["check"];
-    args.extend_from_slice(SETUP_1D);
-    args.extend_from_slice(&["--input", &p]);
-    refused(hompm::cli::run(&args), "the column 'value' appears twice");
+    refused(
+        check_text("twice.csv", out),
+        "the column 'value' appears twice",
+    );
 }
 
 #[test]

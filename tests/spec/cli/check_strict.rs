@@ -10,7 +10,7 @@ use serde_json::{json, Value};
 use std::path::PathBuf;
 
 /// The 1D setup of these tests: the thesis bar on 4 cells × 2 PPC, 5 steps.
-const SETUP_1D: &[&str] = &[
+pub(super) const SETUP_1D: &[&str] = &[
     "vibrating-bar",
     "--cells",
     "4",
