@@ -110,7 +110,7 @@ fn phase(bencher: divan::Bencher, case: &String) {
             sim
         })
         .bench_local_values(|mut sim: Simulation2d| {
-            let mapping = sim.settings.mapping;
+            let (mapping, conventions) = (sim.settings.mapping, sim.settings.conventions);
             let (grid, p, ws) = (&sim.grid, &mut sim.particles, &mut sim.workspace);
             match phase {
                 "basis" => evaluate_basis(grid, p, ws, 1).expect("inside"),
@@ -122,7 +122,7 @@ fn phase(bencher: divan::Bencher, case: &String) {
                 "map" if mapping == Mapping2d::Direct => map_direct(grid, p, ws),
                 "map" => map_reconstructed(grid, p, ws).expect("reconstructs"),
                 "nodal" => nodal_update(grid, ws, dt),
-                "particles" => update_particles(grid, p, ws, dt),
+                "particles" => update_particles(grid, p, ws, conventions, dt),
                 "end-of-step" => end_of_step_velocity(grid, p, ws, mapping),
                 _ => update_deformation(grid, p, ws, &sim.settings.material, dt).expect("stable"),
             }

@@ -17,6 +17,7 @@ use super::limits::Limits;
 use super::setup_args::SetupArgs;
 use super::{json, Output};
 use crate::error::{Error, Result};
+use crate::mpm::conventions::Conventions;
 use crate::mpm::diagnostics::rms_error;
 use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::monitor::Warning;
@@ -66,6 +67,10 @@ struct RunJson {
     node_integrals: Option<NodeIntegrals>,
     mapping: String,
     mass: String,
+    /// Another code's conventions (scheme, transfer, positions, body
+    /// force), when not the book's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    conventions: Option<Conventions>,
     /// The consistent solver and its stopping rule.
     solver: serde_json::Value,
     cells: usize,
@@ -140,6 +145,7 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         node_integrals: d.method.node_integrals(),
         mapping: name(&a.setup.mapping),
         mass: name(&a.setup.mass),
+        conventions: (!d.conventions.is_book()).then_some(d.conventions),
         solver: to_json(&d.mass)?,
         cells: d.cells,
         ppc: d.ppc,
@@ -167,8 +173,8 @@ pub fn run_scene(a: RunArgs, limits: &Limits) -> Result<Output> {
         json::strict(&doc)?
     } else {
         format!(
-            "{} (E = {}), {} with {} mapping and {} mass, {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\ndiagnostics: {}\n",
-            doc.scene, sim.settings.young, doc.method, doc.mapping, doc.mass, doc.cells, doc.ppc, doc.steps, doc.dt, doc.time, doc.diagnostics
+            "{} (E = {}), {} with {} mapping and {} mass{}, {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\ndiagnostics: {}\n",
+            doc.scene, sim.settings.young, doc.method, doc.mapping, doc.mass, conventions_words(&d.conventions, 1), doc.cells, doc.ppc, doc.steps, doc.dt, doc.time, doc.diagnostics
         )
     };
     Ok(Output {
@@ -208,4 +214,13 @@ fn diagnostics_with_errors(s: &Setup1d, sim: &Simulation) -> Result<serde_json::
         );
     }
     Ok(diagnostics)
+}
+
+/// ", --scheme usl --positions grid" for conventions other than the
+/// dimension's default; empty for the default.
+pub(crate) fn conventions_words(c: &Conventions, dimension: usize) -> String {
+    c.flags(dimension)
+        .iter()
+        .map(|f| format!(", {f}"))
+        .collect()
 }

@@ -13,11 +13,12 @@
 use super::args::{count, name, node_integrals, MappingArg, MassArg, MethodArg, SceneArg};
 use super::limits::Limits;
 use crate::error::{Error, Result};
+use crate::mpm::conventions::{registered, BodyForceAt, Conventions, Positions, Scheme, Transfer};
 use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use crate::mpm::musl::Constitutive;
 use crate::oracle::setup::{Overrides, Scene1d, Setup, Setup1d, Setup2d};
-use crate::scenes::aligned_vibration::AlignedMethod;
+use crate::scenes::aligned_vibration::{AlignedMethod, SolutionForm};
 use crate::scenes::Discretisation;
 use crate::solve::richardson::ResidualNorm;
 use clap::ValueEnum;
@@ -127,6 +128,70 @@ pub struct SetupArgs {
     /// Number of steps.
     #[arg(long, default_value_t = 100, value_parser = count, allow_negative_numbers = true)]
     pub steps: usize,
+    /// Another code's update scheme (docs/conventions.md, "Conventions of
+    /// other codes"); default musl.
+    #[arg(long, value_parser = convention::<Scheme>, help = convention_help("scheme"))]
+    pub scheme: Option<Scheme>,
+    /// Another code's velocity transfer; default flip.
+    #[arg(long, value_parser = convention::<Transfer>, help = convention_help("transfer"))]
+    pub transfer: Option<Transfer>,
+    /// The velocity that moves the particles; default projected in 1D,
+    /// grid in 2D (the seeds').
+    #[arg(long, value_parser = convention::<Positions>, help = convention_help("positions"))]
+    pub positions: Option<Positions>,
+    /// Where the body force is evaluated; default particles.
+    #[arg(long = "body-force", value_parser = convention::<BodyForceAt>, help = convention_help("body-force"))]
+    pub body_force: Option<BodyForceAt>,
+    /// The form of the aligned vibration's manufactured solution.
+    #[arg(long, value_parser = solution_form, help = "mls-paper: u = A sin(2πX/L) sin(cπt/L), MLS paper Eq. (38) (default); axis-aligned: u = A sin(πX/L) sin(cπt/L), Wallstedt & Guilkey (2008), Uintah's AxisAligned MMS, mpmat, the MLS paper's own code")]
+    pub solution: Option<SolutionForm>,
+}
+
+/// A convention flag's value, parsed by its registration.
+fn convention<T: FromConventionName>(text: &str) -> std::result::Result<T, String> {
+    T::from_convention_name(text.trim()).map_err(|e| e.to_string())
+}
+
+/// `--solution`.
+fn solution_form(text: &str) -> std::result::Result<SolutionForm, String> {
+    SolutionForm::from_name(text.trim()).map_err(|e| e.to_string())
+}
+
+/// The `--help` of a convention flag: its registered values, one line each.
+fn convention_help(flag: &str) -> String {
+    registered(flag)
+        .map(|c| format!("{}: {} [{}]", c.value, c.help, c.citation))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// A convention parsed from its registered word.
+trait FromConventionName: Sized + Clone + Send + Sync + 'static {
+    fn from_convention_name(name: &str) -> Result<Self>;
+}
+
+impl FromConventionName for Scheme {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        Scheme::from_name(name)
+    }
+}
+
+impl FromConventionName for Transfer {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        Transfer::from_name(name)
+    }
+}
+
+impl FromConventionName for Positions {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        Positions::from_name(name)
+    }
+}
+
+impl FromConventionName for BodyForceAt {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        BodyForceAt::from_name(name)
+    }
 }
 
 impl SetupArgs {
@@ -180,7 +245,27 @@ impl SetupArgs {
                 ConstitutiveArg::Small => Constitutive::SmallStrain,
                 ConstitutiveArg::Large => Constitutive::LargeStrain,
             }),
+            solution: self.solution,
         }
+    }
+
+    /// The conventions of the step: the dimension's default with every
+    /// flag given on top, checked.
+    pub fn conventions(&self) -> Result<Conventions> {
+        let mut c = Conventions::default_for(if self.two_d() { 2 } else { 1 });
+        c.scheme = self.scheme.unwrap_or(c.scheme);
+        c.transfer = self.transfer.unwrap_or(c.transfer);
+        // USL and USF project nothing: they move the particles with the
+        // grid velocity unless --positions says otherwise (and is refused).
+        let moved = if c.scheme == Scheme::Musl {
+            c.positions
+        } else {
+            Positions::Grid
+        };
+        c.positions = self.positions.unwrap_or(moved);
+        c.body_force = self.body_force.unwrap_or(c.body_force);
+        c.validate()?;
+        Ok(c)
     }
 
     /// The mass matrix with its solver and stopping rule.
@@ -251,12 +336,14 @@ impl SetupArgs {
                 per_side: per_side(self.ppc())?,
                 dt: self.dt,
                 steps: self.steps,
+                conventions: self.conventions()?,
             }));
         }
         let method = self.method.method(self.degree, self.node_integrals)?;
         let mapping = Mapping::from(self.mapping);
-        let discretisation =
+        let mut discretisation =
             Discretisation::new(method, mapping, self.mass_matrix()?, cells, self.ppc());
+        discretisation.conventions = self.conventions()?;
         let scene = match scene {
             SceneArg::VibratingBar => Scene1d::bar(
                 self.params.as_deref().unwrap_or("thesis-table-4.1"),

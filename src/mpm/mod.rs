@@ -14,11 +14,14 @@
 //!
 //! [`particles`] holds the material points (struct of arrays), [`method`]
 //! the variants by their basis, [`settings`] what a run is set up with,
-//! [`musl`] the time step, [`diagnostics`] the error measures of the seeds and
+//! [`conventions`] the choices other codes make in the same step (scheme,
+//! transfer, positions, body force),
+//! [`musl`] the time step, [`workspace`] its buffers, [`diagnostics`] the error measures of the seeds and
 //! [`monitor`] the stability monitor of `hompm run`. [`check_time_step`] is
 //! the one check of Δt that the 1D step, the 2D step and the FE reference
 //! share.
 
+pub mod conventions;
 pub mod diagnostics;
 pub mod grid;
 pub mod mapping;
@@ -27,6 +30,7 @@ pub mod monitor;
 pub mod musl;
 pub mod particles;
 pub mod settings;
+pub mod workspace;
 
 /// The time step of a step must be positive and finite: [`Error::NotPositive`]
 /// naming "the time step" otherwise. The 1D step (`musl`), the 2D step

@@ -39,14 +39,18 @@
 //! Items: [`StepWorkspace`], [`Simulation`], [`StepPoint`],
 //! [`StepObserver`], [`NoObserver`].
 
+use super::conventions::{BodyForceAt, Positions, Scheme, Transfer};
 use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
-use super::mapping::{internal_force, project_velocity, MappingWorkspace};
+use super::mapping::{internal_force, project_velocity};
 use super::particles::Particles;
 pub use super::settings::{Constitutive, Settings};
+pub use super::workspace::StepWorkspace;
+
+mod other_codes;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
-use crate::spline::bspline::SpanScratch;
+use other_codes::{check_conventions, move_and_strain};
 use serde::Serialize;
 
 /// The points of a step after which a [`StepObserver`] is called, in the
@@ -58,6 +62,10 @@ pub enum StepPoint {
     /// Step 1: m_i (book Eq. 4.5) and the external loads (thesis §3.2)
     /// in `workspace().mass`, `gravity_force`, `traction_force`.
     MassAndLoads,
+    /// Another code's step only ([`super::conventions`]): the grid momentum
+    /// p_i and velocity v_i^n = p_i/m_i (0 on Dirichlet DOFs) in
+    /// `workspace().nodal_momentum`, `nodal_velocity`.
+    GridVelocity,
     /// Step 1: f_int (book Eq. 4.6) in `workspace().internal_force`.
     InternalForce,
     /// Step 2: a_i (book Eq. 4.8) before the boundary conditions, in
@@ -65,6 +73,9 @@ pub enum StepPoint {
     Acceleration,
     /// Step 2: a_i = 0 on the Dirichlet DOFs.
     AccelerationConditions,
+    /// Another code's step only: ṽ_i = v_i^n + Δt a_i (0 on Dirichlet
+    /// DOFs) in `workspace().updated_velocity`.
+    UpdatedGridVelocity,
     /// Step 3: v_p (book Eq. 4.9) in `particles.velocity`.
     ParticleVelocity,
     /// Step 4: the projection's right-hand side p_i and v_i (book Eq. 4.10)
@@ -98,55 +109,6 @@ impl StepObserver for NoObserver {
     #[inline(always)]
     fn observe(&mut self, _: StepPoint, _: &mut Simulation) -> Result<()> {
         Ok(())
-    }
-}
-
-/// The buffers of one step, allocated when the simulation starts: the basis
-/// at the particles (flat stencils), the nodal vectors, and the per-particle
-/// increments of steps 5–8.
-#[derive(Debug, Clone)]
-pub struct StepWorkspace {
-    /// φ_i(x_p) and (modified) ∇φ_i(x_p) at the start of the step.
-    pub stencils: Stencils,
-    scratch: SpanScratch,
-    /// Lumped nodal mass m_i (Eq. 4.5).
-    pub mass: Vec<f64>,
-    /// Internal force f_int (Eq. 4.6).
-    pub internal_force: Vec<f64>,
-    /// Gravity load Σ_p m_p g φ_i (thesis §3.2).
-    pub gravity_force: Vec<f64>,
-    /// Traction load Σ_p f_p φ_i (thesis §3.2).
-    pub traction_force: Vec<f64>,
-    /// Nodal acceleration a_i (Eq. 4.8).
-    pub acceleration: Vec<f64>,
-    /// The mappings' buffers, and the projected velocity v_i (Eq. 4.10).
-    pub mapping: MappingWorkspace,
-    /// Δε_p of this step (Eq. 4.14).
-    pub strain_increment: Vec<f64>,
-    /// Gradient breaks at or below x_p at the start of the step, and the
-    /// position they were counted at (the count after one step is the count
-    /// before the next unless the position was changed in between).
-    breaks_before: Vec<usize>,
-    counted_at: Vec<f64>,
-}
-
-impl StepWorkspace {
-    /// Buffers for `grid` and `particles` particles.
-    pub fn new(grid: &Grid, particles: usize) -> Result<Self> {
-        let n = grid.num_dofs();
-        Ok(Self {
-            stencils: grid.stencils(particles),
-            scratch: SpanScratch::default(),
-            mass: vec![0.0; n],
-            internal_force: vec![0.0; n],
-            gravity_force: vec![0.0; n],
-            traction_force: vec![0.0; n],
-            acceleration: vec![0.0; n],
-            mapping: MappingWorkspace::new(grid, particles)?,
-            strain_increment: vec![0.0; particles],
-            breaks_before: vec![0; particles],
-            counted_at: vec![f64::NAN; particles],
-        })
     }
 }
 
@@ -196,6 +158,7 @@ impl Simulation {
             )));
         }
         crate::error::finite("gravity", settings.gravity)?;
+        check_conventions(&settings)?;
         let diagnostics = RunDiagnostics {
             min_lumped_mass: f64::INFINITY,
             min_mass_diagonal_ratio: f64::INFINITY,
@@ -250,27 +213,48 @@ impl Simulation {
     /// function ([`StepPoint`]).
     pub fn step_observed<O: StepObserver>(&mut self, dt: f64, observer: &mut O) -> Result<()> {
         super::check_time_step(dt)?;
+        let conventions = self.settings.conventions;
+        let other_code = conventions.needs_grid_velocity();
         self.evaluate_basis_at_particles()?;
         self.map_mass_and_loads();
         observer.observe(StepPoint::MassAndLoads, self)?;
+        if other_code {
+            self.map_grid_velocity();
+            observer.observe(StepPoint::GridVelocity, self)?;
+        }
+        if conventions.scheme == Scheme::Usf {
+            self.strain_from_grid_velocity(dt);
+            self.update_stresses();
+            observer.observe(StepPoint::Stress, self)?;
+            self.update_volumes_and_densities();
+            observer.observe(StepPoint::VolumeAndDensity, self)?;
+        }
         self.map_internal_force()?;
         observer.observe(StepPoint::InternalForce, self)?;
         self.nodal_acceleration()?;
         observer.observe(StepPoint::Acceleration, self)?;
         self.apply_acceleration_conditions();
         observer.observe(StepPoint::AccelerationConditions, self)?;
+        if other_code {
+            self.update_grid_velocity(dt);
+            observer.observe(StepPoint::UpdatedGridVelocity, self)?;
+        }
         self.update_particle_velocities(dt);
         observer.observe(StepPoint::ParticleVelocity, self)?;
-        self.project_nodal_velocities()?;
-        observer.observe(StepPoint::NodalVelocity, self)?;
-        self.apply_velocity_conditions();
-        observer.observe(StepPoint::NodalVelocityConditions, self)?;
+        if conventions.scheme == Scheme::Musl {
+            self.project_nodal_velocities()?;
+            observer.observe(StepPoint::NodalVelocity, self)?;
+            self.apply_velocity_conditions();
+            observer.observe(StepPoint::NodalVelocityConditions, self)?;
+        }
         self.update_particle_positions(dt);
         observer.observe(StepPoint::Positions, self)?;
-        self.update_stresses();
-        observer.observe(StepPoint::Stress, self)?;
-        self.update_volumes_and_densities();
-        observer.observe(StepPoint::VolumeAndDensity, self)?;
+        if conventions.scheme != Scheme::Usf {
+            self.update_stresses();
+            observer.observe(StepPoint::Stress, self)?;
+            self.update_volumes_and_densities();
+            observer.observe(StepPoint::VolumeAndDensity, self)?;
+        }
         self.record_particle_monitors();
         self.time += dt;
         self.diagnostics.steps += 1;
@@ -323,8 +307,16 @@ impl Simulation {
         // A load with every weight zero stays +0.0, exactly what adding its
         // ±0 terms would give, so it is skipped.
         if g != 0.0 {
-            ws.stencils
-                .scatter_values(|k| p.mass[k] * g, &mut ws.gravity_force);
+            match self.settings.conventions.body_force {
+                BodyForceAt::Particles => ws
+                    .stencils
+                    .scatter_values(|k| p.mass[k] * g, &mut ws.gravity_force),
+                BodyForceAt::Nodes => {
+                    for (f, m) in ws.gravity_force.iter_mut().zip(&ws.mass) {
+                        *f = m * g;
+                    }
+                }
+            }
         }
         if p.traction.iter().any(|&t| t != 0.0) {
             ws.stencils
@@ -397,11 +389,27 @@ impl Simulation {
         Ok(())
     }
 
-    /// Step 3, book Eq. (4.9): v_p ← v_p + Δt Σ_i φ_i(x_p) a_i.
+    /// Step 3, book Eq. (4.9): v_p ← v_p + Δt Σ_i φ_i(x_p) a_i (FLIP).
+    /// With `--transfer pic` v_p ← Σ_i φ_i ṽ_i; with `flip:α`
+    /// v_p ← α (v_p + Δt Σ_i φ_i a_i) + (1 − α) Σ_i φ_i ṽ_i.
     fn update_particle_velocities(&mut self, dt: f64) {
         let ws = &self.workspace;
-        ws.stencils
-            .add_interpolated(dt, &ws.acceleration, &mut self.particles.velocity);
+        let velocity = &mut self.particles.velocity;
+        match self.settings.conventions.transfer {
+            Transfer::Flip => ws.stencils.add_interpolated(dt, &ws.acceleration, velocity),
+            Transfer::Pic => {
+                for (k, vp) in velocity.iter_mut().enumerate() {
+                    *vp = ws.stencils.interpolate(k, &ws.updated_velocity);
+                }
+            }
+            Transfer::Blend(alpha) => {
+                for (k, vp) in velocity.iter_mut().enumerate() {
+                    let flip = *vp + dt * ws.stencils.interpolate(k, &ws.acceleration);
+                    let pic = ws.stencils.interpolate(k, &ws.updated_velocity);
+                    *vp = alpha * flip + (1.0 - alpha) * pic;
+                }
+            }
+        }
     }
 
     /// Step 4, book Eq. (4.10) (or Eqs. 4.39–4.44 with TLS, thesis §7.2
@@ -440,11 +448,34 @@ impl Simulation {
 
     /// Steps 5–6, book Eqs. (4.11)–(4.14): Δu_i = Δt v_i; u_p and x_p grow by
     /// Σ_i φ_i(x_p) Δu_i; the strain increment is Δε_p = Σ_i ∇φ_i(x_p) Δu_i.
+    ///
+    /// Another code's step: `--positions grid` moves the particles with ṽ_i
+    /// (MLS paper Eq. 30); USL takes Δε_p from ṽ_i too; USF has taken it
+    /// already and only moves the particles.
     fn update_particle_positions(&mut self, dt: f64) {
+        let conventions = self.settings.conventions;
         let (p, ws) = (&mut self.particles, &mut self.workspace);
-        let (s, v) = (&ws.stencils, &ws.mapping.velocity);
+        let s = &ws.stencils;
+        let moved_by = match conventions.positions {
+            Positions::Projected => &ws.mapping.velocity,
+            Positions::Grid => &ws.updated_velocity,
+        };
         let deps = &mut ws.strain_increment;
-        with_width!(s.width(), update_positions::<W>(p, s, v, dt, deps));
+        match conventions.scheme {
+            Scheme::Musl if conventions.positions == Positions::Projected => {
+                let v = &ws.mapping.velocity;
+                with_width!(s.width(), update_positions::<W>(p, s, v, dt, deps));
+            }
+            Scheme::Musl => move_and_strain(p, s, moved_by, &ws.mapping.velocity, dt, deps),
+            Scheme::Usl => move_and_strain(p, s, moved_by, moved_by, dt, deps),
+            Scheme::Usf => {
+                for k in 0..p.len() {
+                    let du = dt * s.interpolate(k, moved_by);
+                    p.displacement[k] += du;
+                    p.x[k] += du;
+                }
+            }
+        }
     }
 
     /// Step 7: σ_p ← σ_p + E Δε_p (small strain, book Eq. 4.15) or

@@ -5,10 +5,12 @@
 //! mass matrix of the projection, the constitutive update of step 7 (book
 //! Eqs. 4.15–4.16), E, gravity and its ramp (TLS paper §6.2), the Dirichlet
 //! DOFs, the consistent acceleration of the CFL study and the TLS density
-//! fit's cell average.
+//! fit's cell average, and the conventions of other codes
+//! ([`super::conventions`]).
 //!
 //! Items: [`Constitutive`], [`Settings`].
 
+use super::conventions::Conventions;
 use super::mapping::{Mapping, MassMatrix};
 use crate::reconstruct::taylor::CellAverage;
 use serde::Serialize;
@@ -51,4 +53,8 @@ pub struct Settings {
     /// TLS author's cell average"). Not printed when exact.
     #[serde(skip_serializing_if = "CellAverage::is_exact")]
     pub tls_density_average: CellAverage,
+    /// Scheme, transfer, positions and body force ([`Conventions::BOOK`]
+    /// unless another code's are asked for). Not printed when the book's.
+    #[serde(skip_serializing_if = "Conventions::is_book")]
+    pub conventions: Conventions,
 }

@@ -123,6 +123,25 @@ impl Grid2d {
         self.axis.num_dofs()
     }
 
+    /// The position X_i of every node i = ix + n_x·iy: the grid point for
+    /// bilinear MPM, the Greville abscissa (t_{i+1} + … + t_{i+p})/p of the
+    /// open-uniform knot vector for B-splines (where a B-spline's
+    /// coefficient sits when it interpolates a linear function). Only
+    /// `--body-force nodes` evaluates anything there.
+    pub fn node_positions(&self) -> Vec<[f64; 2]> {
+        let (h, n) = (self.cell_size(), self.nodes_per_side());
+        let along: Vec<f64> = match self.basis {
+            Basis2d::Bilinear => (0..n).map(|i| i as f64 * h).collect(),
+            Basis2d::BSpline { degree } => {
+                let knot = |j: usize| (j.saturating_sub(degree) as f64 * h).min(self.length);
+                (0..n)
+                    .map(|i| (i + 1..=i + degree).map(knot).sum::<f64>() / degree as f64)
+                    .collect()
+            }
+        };
+        (0..n * n).map(|i| [along[i % n], along[i / n]]).collect()
+    }
+
     /// n_x · n_y.
     pub fn num_nodes(&self) -> usize {
         self.nodes_per_side() * self.nodes_per_side()

@@ -35,7 +35,11 @@ use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
 use super::workspace::{Conservation2d, Workspace2d};
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
+use crate::mpm::conventions::{Conventions, Positions, Transfer};
+
+mod other_codes;
 use nalgebra::Matrix2;
+pub use other_codes::move_particles;
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
 /// outside [0, L]² is `Error::ParticleLeftGrid`.
@@ -343,11 +347,26 @@ pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
 
 /// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
 /// x_p += Δt Σ_i N_i (mv)_i^{t+1}/m_i; u_p = x_p − X_p.
-pub fn update_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
-    with_width!(
-        grid.stencil_width(),
-        update_particles_with::<W>(grid, p, ws, dt)
-    );
+///
+/// Another code's conventions (`mpm::conventions`): `--transfer pic` sets
+/// v_p = Σ_i N_i v_i^{t+1} and `flip:α` blends
+/// v_p = α (v_p + Δt Σ_i N_i a_i) + (1 − α) Σ_i N_i v_i^{t+1};
+/// `--positions projected` leaves x_p to [`move_particles`].
+pub fn update_particles(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &Workspace2d,
+    conventions: Conventions,
+    dt: f64,
+) {
+    if conventions.transfer == Transfer::Flip && conventions.positions == Positions::Grid {
+        with_width!(
+            grid.stencil_width(),
+            update_particles_with::<W>(grid, p, ws, dt)
+        );
+        return;
+    }
+    other_codes::update_particles_blended(grid, p, ws, conventions, dt);
 }
 
 /// [`update_particles`] for stencil width `W` (0: any width): both sums

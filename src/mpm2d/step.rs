@@ -50,13 +50,15 @@ use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::phases::{evaluate_basis_at_reference, record_conservation};
 use crate::error::{Error, Result};
+use crate::mpm::conventions::{BodyForceAt, Conventions, Positions, Scheme};
 use crate::spline::bspline::SpanScratch;
 use serde::{Deserialize, Serialize};
 
 pub use super::mapping::{Mapping2d, MappingInfo};
 pub use super::phases::{
     end_of_step_velocity, evaluate_basis, map_direct, map_direct_reference, map_reconstructed,
-    nodal_update, update_deformation, update_deformation_reference, update_particles,
+    move_particles, nodal_update, update_deformation, update_deformation_reference,
+    update_particles,
 };
 pub use super::workspace::{Conservation2d, Workspace2d};
 
@@ -128,6 +130,10 @@ pub struct Settings2d {
     pub material: NeoHookean,
     /// The MLS support scale s (r = |x − x_p|/(s·h)); unused for `Direct`.
     pub mls_support: f64,
+    /// Scheme, transfer, positions and body force
+    /// ([`Conventions::MLS_PAPER`] unless another code's are asked for;
+    /// `--scheme usf` is 1D only).
+    pub conventions: Conventions,
 }
 
 /// A 2D simulation: grid, particles, settings, workspace and clock.
@@ -140,8 +146,11 @@ pub struct Simulation2d {
     pub settings: Settings2d,
     /// The workspace.
     pub workspace: Workspace2d,
-    /// The body force, if any.
+    /// The body force, if any: evaluated at the particles' X_p, or with
+    /// `--body-force nodes` at [`Grid2d::node_positions`].
     pub body_force: Option<Box<dyn BodyForce2d>>,
+    /// The nodes' positions X_i (`--body-force nodes`; empty otherwise).
+    pub node_positions: Vec<[f64; 2]>,
     /// Time reached.
     pub time: f64,
     /// Steps taken.
@@ -182,15 +191,24 @@ impl Simulation2d {
                 "the total-Lagrangian reference uses the direct mapping only".into(),
             ));
         }
+        check_conventions(&settings)?;
         let reconstruction =
             settings
                 .mapping
                 .reconstruction(settings.mls_support, grid.cells(), n)?;
+        let node_positions = match settings.conventions.body_force {
+            BodyForceAt::Nodes => grid.node_positions(),
+            BodyForceAt::Particles => Vec::new(),
+        };
         let workspace = Workspace2d {
             along_x: grid.axis().stencils(n),
             along_y: grid.axis().stencils(n),
             scratch: SpanScratch::default(),
             body_force: vec![[0.0; 2]; n],
+            nodal_body_force: match settings.conventions.body_force {
+                BodyForceAt::Nodes => vec![[0.0; 2]; nodes],
+                BodyForceAt::Particles => Vec::new(),
+            },
             mass: vec![0.0; nodes],
             momentum: vec![[0.0; 2]; nodes],
             force: vec![[0.0; 2]; nodes],
@@ -217,6 +235,7 @@ impl Simulation2d {
             settings,
             workspace,
             body_force,
+            node_positions,
             time: 0.0,
             steps: 0,
             conservation: Conservation2d::default(),
@@ -247,14 +266,22 @@ impl Simulation2d {
             if !total {
                 evaluate_basis(grid, p, ws, self.steps)?;
             }
+            let at_nodes = self.settings.conventions.body_force == BodyForceAt::Nodes;
             if let Some(b) = &self.body_force {
-                b.fill(self.time, &p.x0, &mut ws.body_force);
+                if at_nodes {
+                    b.fill(self.time, &self.node_positions, &mut ws.nodal_body_force);
+                } else {
+                    b.fill(self.time, &p.x0, &mut ws.body_force);
+                }
             }
             match self.settings.mapping {
                 Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
                 Mapping2d::Direct => map_direct(grid, p, ws),
                 // Every other mapping is a registered reconstruction.
                 _ => map_reconstructed(grid, p, ws)?,
+            }
+            if at_nodes && self.body_force.is_some() {
+                add_nodal_body_force(ws);
             }
             record_conservation(p, ws, &mut self.conservation);
             if let Some(shapes) = &ws.reconstruction {
@@ -266,10 +293,27 @@ impl Simulation2d {
         observer.observe(StepPoint2d::GridMapping, self)?;
         nodal_update(&self.grid, &mut self.workspace, dt);
         observer.observe(StepPoint2d::NodalUpdate, self)?;
-        update_particles(&self.grid, &mut self.particles, &self.workspace, dt);
+        let conventions = self.settings.conventions;
+        update_particles(
+            &self.grid,
+            &mut self.particles,
+            &self.workspace,
+            conventions,
+            dt,
+        );
         observer.observe(StepPoint2d::ParticleUpdate, self)?;
         let mapping = self.settings.mapping;
-        end_of_step_velocity(&self.grid, &self.particles, &mut self.workspace, mapping);
+        match conventions.scheme {
+            Scheme::Usl => {
+                let ws = &mut self.workspace;
+                ws.momentum_end.copy_from_slice(&ws.momentum_next);
+                ws.velocity_end.copy_from_slice(&ws.velocity_next);
+            }
+            _ => end_of_step_velocity(&self.grid, &self.particles, &mut self.workspace, mapping),
+        }
+        if conventions.positions == Positions::Projected {
+            move_particles(&self.grid, &mut self.particles, &self.workspace, dt);
+        }
         observer.observe(StepPoint2d::EndOfStepVelocity, self)?;
         let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
         let material = &self.settings.material;
@@ -291,6 +335,34 @@ impl Simulation2d {
             self.step(dt)?;
         }
         Ok(())
+    }
+}
+
+/// Refuses the conventions the 2D step does not have: USF (its stress
+/// update would have to come before phase 1), and anything but the paper's
+/// with the total-Lagrangian reference.
+fn check_conventions(settings: &Settings2d) -> Result<()> {
+    let c = settings.conventions;
+    c.validate()?;
+    if c.scheme == Scheme::Usf {
+        return Err(Error::InvalidArgument(
+            "--scheme usf is 1D only; the 2D step has musl and usl".into(),
+        ));
+    }
+    if settings.formulation == Formulation::TotalLagrangian && c != Conventions::MLS_PAPER {
+        return Err(Error::InvalidArgument(
+            "the total-Lagrangian reference runs with the MLS paper's conventions only".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// `--body-force nodes`: f_i += m_i b(X_i, t) after phase 1, whose
+/// particle body force was left zero.
+fn add_nodal_body_force(ws: &mut Workspace2d) {
+    for ((f, &m), b) in ws.force.iter_mut().zip(&ws.mass).zip(&ws.nodal_body_force) {
+        f[0] += m * b[0];
+        f[1] += m * b[1];
     }
 }
 

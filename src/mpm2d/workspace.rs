@@ -33,6 +33,9 @@ pub struct Workspace2d {
     pub(super) scratch: SpanScratch,
     /// b_p(t) per unit mass.
     pub body_force: Vec<[f64; 2]>,
+    /// `--body-force nodes`: b(X_i, t) per unit mass at every node (empty
+    /// otherwise).
+    pub nodal_body_force: Vec<[f64; 2]>,
     /// Lumped nodal masses m_i (Eq. 22).
     pub mass: Vec<f64>,
     /// Nodal momenta (mv)_i^t of phase 1 (Eq. 23).

@@ -135,6 +135,8 @@ pub struct CheckReport {
     /// The trace's keys that were not compared (with a trace).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub ignored_equations: Vec<String>,
+    /// hompm's trace keys that the other code's trace lacks.
+    pub missing_equations: Vec<String>,
     /// The ratio of your RMS error of u to hompm's, where both exist.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_ratio: Option<f64>,
@@ -321,6 +323,7 @@ pub fn check(
         first_difference: traced.first,
         compared_equations: traced.compared,
         ignored_equations: traced.ignored,
+        missing_equations: traced.missing,
         error_ratio,
         time: setup.end_time(),
         time_resolution: None,
@@ -458,8 +461,19 @@ fn verdict(r: &CheckReport) -> String {
     }
     if !r.ignored_equations.is_empty() {
         lines.push(format!(
-            "not compared: your trace's keys {} (not traced by hompm's run of this setup)",
-            list(&r.ignored_equations)
+            "not compared: your trace's keys {} (not traced by hompm's run of this setup{})",
+            list(&r.ignored_equations),
+            if r.ignored_equations.iter().any(|k| k.starts_with("nodal-")) {
+                "; they belong to another code's step: give its --scheme, --transfer or --positions"
+            } else {
+                ""
+            }
+        ));
+    }
+    if !r.missing_equations.is_empty() {
+        lines.push(format!(
+            "not in your trace: hompm's keys {} (not compared)",
+            list(&r.missing_equations)
         ));
     }
     if let Some(ratio) = r.error_ratio {

@@ -300,6 +300,8 @@ pub struct TraceComparison {
     /// The other code's keys that were not compared: not one of hompm's
     /// keys, or one that hompm's run does not trace at that step.
     pub ignored: Vec<String>,
+    /// hompm's keys that the other code's trace lacks at a step both trace.
+    pub missing: Vec<String>,
 }
 
 /// Compares two traces step by step, equation by equation in the order
@@ -322,6 +324,11 @@ pub fn first_difference(
                 ts.step
             )));
         };
+        for key in os.equations.keys() {
+            if !ts.equations.contains_key(key) && !out.missing.contains(key) {
+                out.missing.push(key.clone());
+            }
+        }
         for key in ts.equations.keys() {
             let known = table.iter().any(|e| e.key == key);
             if (!known || !os.equations.contains_key(key)) && !out.ignored.contains(key) {

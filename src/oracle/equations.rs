@@ -108,7 +108,7 @@ const fn eq2(
 /// computes them (the order in which `hompm check` looks for the first
 /// difference). The stress key is `book-4.15` for the small-strain update
 /// and `book-4.16` for the large-strain one; both are listed.
-pub const EQUATIONS_1D: [Equation; 19] = [
+pub const EQUATIONS_1D: [Equation; 22] = [
     eq(
         "book-4.5",
         "m_i",
@@ -124,6 +124,22 @@ pub const EQUATIONS_1D: [Equation; 19] = [
         "thesis §3.2",
         IndexKind::Dof,
         StepPoint::MassAndLoads,
+    ),
+    eq(
+        "nodal-momentum",
+        "p_i",
+        "another code's grid momentum Σ m_p v_p φ_i at the start of the step",
+        "MLS paper Eq. (19), 1D",
+        IndexKind::Dof,
+        StepPoint::GridVelocity,
+    ),
+    eq(
+        "nodal-velocity",
+        "v_i^n",
+        "another code's grid velocity p_i/m_i, 0 on Dirichlet DOFs",
+        "MLS paper Eq. (19), 1D",
+        IndexKind::Dof,
+        StepPoint::GridVelocity,
     ),
     eq(
         "book-4.6",
@@ -148,6 +164,14 @@ pub const EQUATIONS_1D: [Equation; 19] = [
         "book Eq. (4.8) and §4.2.2",
         IndexKind::Dof,
         StepPoint::AccelerationConditions,
+    ),
+    eq(
+        "nodal-velocity-updated",
+        "ṽ_i",
+        "another code's updated grid velocity v_i^n + Δt a_i, 0 on Dirichlet DOFs",
+        "MLS paper Eqs. (27)-(28), 1D",
+        IndexKind::Dof,
+        StepPoint::UpdatedGridVelocity,
     ),
     eq(
         "book-4.9",

@@ -180,6 +180,15 @@ pub(crate) fn parse_json(text: &str) -> Result<Parsed> {
                 match v {
                     Value::String(s) => table.metadata(k, s.clone()),
                     Value::Number(n) => table.metadata(k, n.to_string()),
+                    // `hompm run --json` names another code's conventions
+                    // in one object; each is metadata the setup must match.
+                    Value::Object(c) if k == "conventions" => {
+                        for (ck, cv) in c {
+                            if let Value::String(s) = cv {
+                                table.metadata(ck, s.clone());
+                            }
+                        }
+                    }
                     _ => {}
                 }
             }

@@ -30,7 +30,7 @@
 //!
 //! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`table`], [`provenance`], [`state`],
 //! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
-//! [`method_label_1d`], [`INPUT_MEMORY_FACTOR`].
+//! [`method_label_1d`], [`conventions_suffix`], [`INPUT_MEMORY_FACTOR`].
 
 pub mod check;
 pub mod columns;
@@ -71,5 +71,21 @@ pub fn method_label_1d(d: &Discretisation) -> String {
             residual.symbol()
         ),
     };
-    format!("{} with {mapping} and {mass}", d.method.label())
+    format!(
+        "{} with {mapping} and {mass}{}",
+        d.method.label(),
+        conventions_suffix(&d.conventions, 1)
+    )
+}
+
+/// " (--scheme usl --positions grid)" for conventions other than the
+/// dimension's default, so that a verdict names what it compared with;
+/// empty for the default.
+pub fn conventions_suffix(c: &crate::mpm::conventions::Conventions, dimension: usize) -> String {
+    let flags = c.flags(dimension);
+    if flags.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", flags.join(" "))
+    }
 }

@@ -3,7 +3,8 @@
 //! Before `hompm check` compares a number it makes sure the other code's
 //! file is of the run it is compared with (issue #35): a trace's header
 //! names the same settings, a file's metadata (`scene`, `cells`, `ppc`,
-//! `steps`, `dt`, `time`) are the setup's, and a trace's steps lie in
+//! `steps`, `dt`, `time`, and the conventions `scheme`, `transfer`,
+//! `positions`, `body-force`, `solution`) are the setup's, and a trace's steps lie in
 //! 1..=steps, in order, once each, ending at the last. A file that is not
 //! is [`Error::Input`] (exit 2), never compared.
 //!
@@ -82,6 +83,30 @@ pub fn check_metadata(metadata: &BTreeMap<String, String>, setup: &Setup) -> Res
         let names = setup.scene_names();
         if !names.contains(&scene.trim_matches('"')) {
             return Err(refuse("scene", scene, names.join(" or ")));
+        }
+    }
+    let c = setup.conventions();
+    let mut words = vec![
+        ("scheme", c.scheme.name().to_string()),
+        ("transfer", c.transfer.name()),
+        ("positions", c.positions.name().to_string()),
+        ("body-force", c.body_force.name().to_string()),
+    ];
+    if let Setup::TwoD(s) = setup {
+        words.push(("solution", s.scene.solution.name().to_string()));
+    }
+    for (key, ours) in words {
+        if let Some(theirs) = metadata.get(key) {
+            let t = theirs.trim_matches('"').trim();
+            let same = match key {
+                "transfer" => {
+                    crate::mpm::conventions::Transfer::from_name(t).is_ok_and(|x| x == c.transfer)
+                }
+                _ => t == ours,
+            };
+            if !same {
+                return Err(refuse(key, theirs, ours));
+            }
         }
     }
     let (cells, ppc) = setup.cells_and_ppc();

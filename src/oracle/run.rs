@@ -78,9 +78,13 @@ pub fn run_2d_observed<O: StepObserver2d>(
     observer: &mut O,
     progress: &mut dyn FnMut(usize),
 ) -> Result<Run2d> {
-    let mut sim = setup
-        .scene
-        .simulation(setup.method, setup.cells, setup.per_side, 1.0)?;
+    let mut sim = setup.scene.simulation_with(
+        setup.method,
+        setup.cells,
+        setup.per_side,
+        1.0,
+        setup.conventions,
+    )?;
     let work = setup.scene.work_bound(sim.particles.total_mass())?;
     let mut monitor = stability_monitor(&sim, work);
     for k in 0..setup.steps {

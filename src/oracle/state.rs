@@ -398,7 +398,16 @@ pub fn state_2d(setup: &Setup2d, sim: &crate::mpm2d::step::Simulation2d) -> Stat
     State {
         particles: t,
         spacing: setup.scene.length / (setup.cells * setup.per_side) as f64,
-        method: setup.method.label(),
+        method: format!(
+            "{}{}{}",
+            setup.method.label(),
+            super::conventions_suffix(&setup.conventions, 2),
+            if setup.scene.solution.is_mls_paper() {
+                String::new()
+            } else {
+                format!(" on the {} solution", setup.scene.solution.name())
+            }
+        ),
         two_d: true,
     }
 }

@@ -25,6 +25,7 @@
 pub use super::equations::{equation, Equation, IndexKind, EQUATIONS_1D, EQUATIONS_2D};
 use super::setup::{Setup1d, Setup2d};
 use crate::error::Result;
+use crate::mpm::conventions::Positions;
 use crate::mpm::musl::{Constitutive, Simulation, StepObserver, StepPoint};
 use crate::mpm2d::step::{Simulation2d, StepObserver2d, StepPoint2d};
 use serde::{Deserialize, Serialize};
@@ -210,6 +211,15 @@ impl StepObserver for TraceObserver {
                 self.put("book-4.5", &mass);
                 self.put("thesis-3.2", &external);
             }
+            StepPoint::GridVelocity => {
+                let (p, v) = (ws.nodal_momentum.clone(), ws.nodal_velocity.clone());
+                self.put("nodal-momentum", &p);
+                self.put("nodal-velocity", &v);
+            }
+            StepPoint::UpdatedGridVelocity => {
+                let v = ws.updated_velocity.clone();
+                self.put("nodal-velocity-updated", &v);
+            }
             StepPoint::InternalForce => {
                 let f = ws.internal_force.clone();
                 self.put("book-4.6", &f);
@@ -239,7 +249,11 @@ impl StepObserver for TraceObserver {
                 self.put("book-4.10-bc", &v);
             }
             StepPoint::Positions => {
-                let du: Vec<f64> = ws.mapping.velocity.iter().map(|v| self.dt * v).collect();
+                let moved_by = match sim.settings.conventions.positions {
+                    Positions::Projected => &ws.mapping.velocity,
+                    Positions::Grid => &ws.updated_velocity,
+                };
+                let du: Vec<f64> = moved_by.iter().map(|v| self.dt * v).collect();
                 let (u, x, de) = (
                     p.displacement.clone(),
                     p.x.clone(),

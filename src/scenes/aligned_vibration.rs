@@ -28,13 +28,17 @@
 //! [`AlignedMethod`], [`AlignedErrors`], [`AlignedRun`], [`ManufacturedForce`].
 
 use crate::error::{Error, Result};
-use crate::mpm2d::step::{
-    BodyForce2d, Conservation2d, Formulation, Mapping2d, Settings2d, Simulation2d,
-};
+use crate::mpm::conventions::{BodyForceAt, Conventions};
+use crate::mpm2d::step::{Conservation2d, Formulation, Mapping2d, Settings2d, Simulation2d};
 use crate::mpm2d::{Basis2d, Grid2d, NeoHookean, Particles2d};
 use nalgebra::Matrix2;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+
+mod force;
+mod solution;
+pub use force::ManufacturedForce;
+pub use solution::SolutionForm;
 
 /// The parameters of the aligned vibration.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -53,6 +57,11 @@ pub struct AlignedVibration {
     pub duration: f64,
     /// Time step Δt \[s\].
     pub dt: f64,
+    /// The form of the manufactured solution (`--solution`): the MLS
+    /// paper's Eq. (38) unless the axis-aligned form is asked for. Not
+    /// printed when the paper's.
+    #[serde(skip_serializing_if = "SolutionForm::is_mls_paper")]
+    pub solution: SolutionForm,
 }
 
 /// The named parameter sets.
@@ -78,6 +87,7 @@ pub fn parameters(name: &str) -> Result<AlignedVibration> {
         length: 1.0,
         duration: 0.2,
         dt: 1e-5,
+        solution: SolutionForm::MlsPaper,
     })
 }
 
@@ -314,6 +324,11 @@ impl AlignedVibration {
         self.wave_speed() * self.duration / (2.0 * self.length)
     }
 
+    /// k = nπ/L, the wavenumber of the form (2π/L for Eq. 38).
+    pub fn wavenumber(&self) -> f64 {
+        self.solution.waves() * PI / self.length
+    }
+
     fn time_factors(&self, t: f64) -> [f64; 2] {
         let phase = self.wave_speed() * PI * t / self.length;
         [phase.sin(), (phase + PI).sin()]
@@ -322,7 +337,7 @@ impl AlignedVibration {
     /// u(X, t), MLS paper Eq. (38).
     pub fn displacement(&self, x0: [f64; 2], t: f64) -> [f64; 2] {
         let s = self.time_factors(t);
-        let k = 2.0 * PI / self.length;
+        let k = self.wavenumber();
         [
             self.amplitude * (k * x0[0]).sin() * s[0],
             self.amplitude * (k * x0[1]).sin() * s[1],
@@ -333,7 +348,7 @@ impl AlignedVibration {
     pub fn velocity(&self, x0: [f64; 2], t: f64) -> [f64; 2] {
         let c = self.wave_speed();
         let phase = c * PI * t / self.length;
-        let k = 2.0 * PI / self.length;
+        let k = self.wavenumber();
         let a = self.amplitude * c * PI / self.length;
         [
             a * (k * x0[0]).sin() * phase.cos(),
@@ -344,7 +359,7 @@ impl AlignedVibration {
     /// F(X, t) = I + ∂u/∂X, diagonal.
     pub fn deformation_gradient(&self, x0: [f64; 2], t: f64) -> Matrix2<f64> {
         let s = self.time_factors(t);
-        let k = 2.0 * PI / self.length;
+        let k = self.wavenumber();
         let a = self.amplitude * k;
         Matrix2::new(
             1.0 + a * (k * x0[0]).cos() * s[0],
@@ -368,8 +383,9 @@ impl AlignedVibration {
         let c2 = self.wave_speed().powi(2);
         let rho = self.density;
         let l2 = self.length * self.length;
+        let n2 = self.solution.waves().powi(2);
         let bracket = |fii: f64| {
-            4.0 * m.mu / rho - c2 - 4.0 * (m.lambda * (ln_j - 1.0) - m.mu) / (rho * fii * fii)
+            n2 * m.mu / rho - c2 - n2 * (m.lambda * (ln_j - 1.0) - m.mu) / (rho * fii * fii)
         };
         Ok([
             factor * u[0] / l2 * bracket(f[(0, 0)]),
@@ -422,13 +438,30 @@ impl AlignedVibration {
         per_side: usize,
         mls_support: f64,
     ) -> Result<Simulation2d> {
+        self.simulation_with(method, cells, per_side, mls_support, Conventions::MLS_PAPER)
+    }
+
+    /// [`Self::simulation`] with another code's conventions
+    /// (`mpm::conventions`); with `--body-force nodes` the force is
+    /// evaluated at [`Grid2d::node_positions`].
+    pub fn simulation_with(
+        &self,
+        method: AlignedMethod,
+        cells: usize,
+        per_side: usize,
+        mls_support: f64,
+        conventions: Conventions,
+    ) -> Result<Simulation2d> {
         let (basis, mapping) = method.parts();
         let grid = Grid2d::new(basis, self.length, cells)?;
         let particles =
             Particles2d::cell_centred(self.length, cells, per_side, self.density, |x| {
                 self.velocity(x, 0.0)
             })?;
-        let force = ManufacturedForce::new(*self, &particles.x0)?;
+        let force = match conventions.body_force {
+            BodyForceAt::Particles => ManufacturedForce::new(*self, &particles.x0)?,
+            BodyForceAt::Nodes => ManufacturedForce::new(*self, &grid.node_positions())?,
+        };
         let formulation = match method {
             AlignedMethod::TotalLagrangian { .. } => Formulation::TotalLagrangian,
             _ => Formulation::UpdatedLagrangian,
@@ -438,6 +471,7 @@ impl AlignedVibration {
             mapping,
             material: self.material()?,
             mls_support,
+            conventions,
         };
         Simulation2d::new(grid, particles, settings, Some(Box::new(force)))
     }
@@ -536,61 +570,5 @@ impl AlignedVibration {
             seconds,
         };
         Ok((run, stop))
-    }
-}
-
-/// The derived body force of Eq. (42) (with π²) at fixed particles, with
-/// sin and cos of 2πX/L and 2πY/L precomputed per particle so that a step
-/// pays one logarithm per particle.
-pub struct ManufacturedForce {
-    scene: AlignedVibration,
-    material: NeoHookean,
-    /// [sin 2πX/L, cos 2πX/L, sin 2πY/L, cos 2πY/L] per particle.
-    trig: Vec<[f64; 4]>,
-}
-
-impl ManufacturedForce {
-    /// For the particles with initial positions `x0`.
-    pub fn new(scene: AlignedVibration, x0: &[[f64; 2]]) -> Result<Self> {
-        let k = 2.0 * PI / scene.length;
-        Ok(Self {
-            material: scene.material()?,
-            scene,
-            trig: x0
-                .iter()
-                .map(|x| {
-                    [
-                        (k * x[0]).sin(),
-                        (k * x[0]).cos(),
-                        (k * x[1]).sin(),
-                        (k * x[1]).cos(),
-                    ]
-                })
-                .collect(),
-        })
-    }
-}
-
-impl BodyForce2d for ManufacturedForce {
-    fn fill(&self, time: f64, _x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
-        let sc = &self.scene;
-        let s = sc.time_factors(time);
-        let a = sc.amplitude;
-        let ak = a * 2.0 * PI / sc.length;
-        let (lambda, mu, rho) = (self.material.lambda, self.material.mu, sc.density);
-        let c2 = sc.wave_speed().powi(2);
-        let pre = PI * PI / (sc.length * sc.length);
-        for (o, t) in out.iter_mut().zip(&self.trig) {
-            let fxx = 1.0 + ak * t[1] * s[0];
-            let fyy = 1.0 + ak * t[3] * s[1];
-            let ln_j = (fxx * fyy).ln();
-            let bracket = |fii: f64| {
-                4.0 * mu / rho - c2 - 4.0 * (lambda * (ln_j - 1.0) - mu) / (rho * fii * fii)
-            };
-            *o = [
-                pre * a * t[0] * s[0] * bracket(fxx),
-                pre * a * t[2] * s[1] * bracket(fyy),
-            ];
-        }
     }
 }

@@ -18,6 +18,7 @@ pub mod aligned_vibration;
 pub mod column;
 pub mod vibrating_bar;
 
+use crate::mpm::conventions::Conventions;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::{Mapping, MassMatrix};
 use serde::Serialize;
@@ -37,6 +38,10 @@ pub struct Discretisation {
     pub cells: usize,
     /// Particles per cell.
     pub ppc: usize,
+    /// The conventions of the step (scheme, transfer, positions, body
+    /// force); the book's by default.
+    #[serde(skip_serializing_if = "Conventions::is_book")]
+    pub conventions: Conventions,
 }
 
 impl Discretisation {
@@ -55,6 +60,7 @@ impl Discretisation {
             mass,
             cells,
             ppc,
+            conventions: Conventions::BOOK,
         }
     }
 
@@ -84,6 +90,7 @@ impl Discretisation {
             dirichlet,
             consistent_acceleration: false,
             tls_density_average: crate::reconstruct::taylor::CellAverage::Exact,
+            conventions: self.conventions,
         }
     }
 }

@@ -319,6 +319,7 @@ pub fn work_precision(resolutions: &[usize]) -> Result<Vec<WorkPoint>> {
                 mass: v.mass,
                 cells,
                 ppc: 4,
+                conventions: Default::default(),
             };
             let e = bar_errors("thesis-table-4.1", &d, 1e-5, 1999)?;
             out.push(WorkPoint {

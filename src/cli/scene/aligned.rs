@@ -13,6 +13,7 @@ use super::super::args::name;
 use super::super::{json, Output};
 use super::RunArgs;
 use crate::error::Result;
+use crate::mpm::conventions::Conventions;
 use crate::mpm::monitor::Warning;
 use crate::mpm2d::step::NoObserver2d;
 use crate::oracle::exact::formulas_2d;
@@ -44,6 +45,9 @@ struct Run2dJson {
     method: String,
     mapping: String,
     mass: String,
+    /// Another code's conventions, when not the MLS paper's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    conventions: Option<Conventions>,
     degree: usize,
     cells: usize,
     ppc: usize,
@@ -94,6 +98,7 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
         method: name(&a.setup.method),
         mapping: m.parts().1.name().into(),
         mass: "lumped".into(),
+        conventions: (!s.conventions.is_mls_paper()).then_some(s.conventions),
         degree: m.degree(),
         cells: s.cells,
         ppc: s.per_side * s.per_side,
@@ -119,8 +124,8 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
         json::strict(&doc)?
     } else {
         format!(
-            "aligned-vibration (E = {}), {} ({}), {} × {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\ndiagnostics: {}\n",
-            scene.young, m.label(), doc.mapping, s.cells, s.cells, doc.ppc, s.steps, s.dt, doc.time, doc.diagnostics
+            "aligned-vibration (E = {}{}), {} ({}{}), {} × {} cells × {} PPC, {} steps of {:e} s (t = {:e} s)\ndiagnostics: {}\n",
+            scene.young, if scene.solution.is_mls_paper() { String::new() } else { format!(", --solution {}", scene.solution.name()) }, m.label(), doc.mapping, super::conventions_words(&s.conventions, 2), s.cells, s.cells, doc.ppc, s.steps, s.dt, doc.time, doc.diagnostics
         )
     };
     Ok(Output {

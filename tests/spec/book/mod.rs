@@ -2,5 +2,6 @@
 
 mod golden_basis;
 mod golden_book;
+mod spec_conventions;
 mod spec_musl_step;
 mod spec_pmultigrid;

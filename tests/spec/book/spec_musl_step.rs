@@ -65,6 +65,7 @@ fn two_particles_on(
         dirichlet: vec![],
         consistent_acceleration: false,
         tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
+        conventions: Default::default(),
     };
     let mut settings = settings;
     configure(&mut p, &mut settings);

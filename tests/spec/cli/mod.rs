@@ -5,5 +5,6 @@ mod check_strict;
 mod cli_contract;
 mod cli_fuzz;
 mod commands;
+mod conventions_cli;
 mod oracle;
 mod oracle_doc;

@@ -608,6 +608,7 @@ fn aligned(amplitude: f64, young: f64) -> Setup {
         per_side: 2,
         dt: 1e-5,
         steps: 5,
+        conventions: hompm::mpm::conventions::Conventions::MLS_PAPER,
     })
 }
 

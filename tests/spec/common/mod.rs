@@ -112,6 +112,7 @@ pub fn free_settings(
         dirichlet: vec![],
         consistent_acceleration: false,
         tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
+        conventions: Default::default(),
     }
 }
 

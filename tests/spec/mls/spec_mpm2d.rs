@@ -52,6 +52,7 @@ fn settings(formulation: Formulation, mapping: Mapping2d) -> Settings2d {
         mapping,
         material: material(),
         mls_support: 1.0,
+        conventions: hompm::mpm::conventions::Conventions::MLS_PAPER,
     }
 }
 

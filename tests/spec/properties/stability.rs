@@ -131,6 +131,7 @@ fn direct_lumped_settings(young: f64, dirichlet: Vec<usize>) -> hompm::mpm::musl
         dirichlet,
         consistent_acceleration: false,
         tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
+        conventions: Default::default(),
     }
 }
 
@@ -447,6 +448,7 @@ fn the_2d_run_reports_progress_every_step_and_budgets_the_body_forces_work() {
         per_side: 2,
         dt: 1e-5,
         steps: 6,
+        conventions: hompm::mpm::conventions::Conventions::MLS_PAPER,
     };
     let mut seen = Vec::new();
     let run = hompm::oracle::run::run_2d_observed(

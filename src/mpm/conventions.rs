@@ -1,0 +1,422 @@
+//! # The conventions of other codes: scheme, transfer, positions, body force
+//!
+//! The seeds write one step (book §4.2.2 in 1D, MLS paper Eqs. 18–37 in
+//! 2D). Codes people run make other choices at four places of the same
+//! step; each choice is a value of one flag, registered once in
+//! [`REGISTRY`] with its one-line help, citation, the codes known to use it
+//! and the trace keys it adds. `run`, `trace` and `check` take the flags in
+//! 1D and 2D alike (docs/conventions.md, "Conventions of other codes"):
+//!
+//! - [`Scheme`] (`--scheme`): when the stress is updated and whether the
+//!   velocity is projected again. MUSL (book §4.2.2, TLS paper §3.1: the
+//!   default), USL (Sulsky et al. 1994, named in TLS paper §3), USF
+//!   (Bardenhagen 2002).
+//! - [`Transfer`] (`--transfer`): how the particle velocity is updated
+//!   (book Eq. 4.9 is FLIP; PIC; Karamelo's blend α·FLIP + (1 − α)·PIC).
+//! - [`Positions`] (`--positions`): the velocity that moves the particles:
+//!   the projected v_i of book Eq. (4.11) (the 1D default) or the updated
+//!   grid velocity ṽ_i = v_i^n + Δt a_i of MLS paper Eq. (30) (the 2D
+//!   default; Karamelo, Taichi).
+//! - [`BodyForceAt`] (`--body-force`): the body force mapped from the
+//!   particles, Σ_p N_i m_p b_p (MLS paper Eq. 24; thesis §3.2), or taken at
+//!   the nodes as m_i b(X_i) (Karamelo).
+//!
+//! The grid velocity at the start of a step, which USL, USF, PIC and the
+//! grid positions need, is v_i^n = p_i / m_i with p_i = Σ_p m_p v_p N_i
+//! (MLS paper Eq. 19 with the particles as quadrature points); on a
+//! Dirichlet DOF it is 0. The updated grid velocity is ṽ_i = v_i^n + Δt a_i
+//! (MLS paper Eqs. 27–28, written per unit mass), 0 on a Dirichlet DOF.
+//!
+//! Items: [`Scheme`], [`Transfer`], [`Positions`], [`BodyForceAt`],
+//! [`Conventions`], [`ConventionInfo`], [`REGISTRY`], [`registered`].
+
+use crate::error::{Error, Result};
+use serde::{Serialize, Serializer};
+
+/// One value of one convention flag, as `--help` and docs/conventions.md
+/// list it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct ConventionInfo {
+    /// The flag without dashes, e.g. `scheme`.
+    pub flag: &'static str,
+    /// The value as the command line spells it, e.g. `usl` (`flip:α` for
+    /// the blend).
+    pub value: &'static str,
+    /// One line of `--help`.
+    pub help: &'static str,
+    /// Where the equations are stated.
+    pub citation: &'static str,
+    /// Codes known to use it.
+    pub codes: &'static str,
+    /// The trace keys it adds to the book's (1D) or the MLS paper's (2D).
+    pub trace_keys: &'static [&'static str],
+}
+
+const GRID_VELOCITY_KEYS: &[&str] = &["nodal-momentum", "nodal-velocity", "nodal-velocity-updated"];
+
+/// Every registered convention value, flag by flag, default first.
+pub const REGISTRY: &[ConventionInfo] = &[
+    ConventionInfo {
+        flag: "scheme",
+        value: "musl",
+        help: "MUSL: project the updated particle velocities again, then strain and stress last",
+        citation: "book §4.2.2, Eqs. (4.9)-(4.18); TLS paper §3.1; MLS paper Eqs. (31)-(37)",
+        codes: "hompm, the thesis author's code, the TLS authors' code, Karamelo scheme(musl)",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "scheme",
+        value: "usl",
+        help: "USL: strain and stress last, from the updated grid velocity, without a second projection",
+        citation: "Sulsky, Chen & Schreyer (1994); named in TLS paper §3",
+        codes: "Karamelo scheme(usl), Taichi's mpm88/mpm99",
+        trace_keys: GRID_VELOCITY_KEYS,
+    },
+    ConventionInfo {
+        flag: "scheme",
+        value: "usf",
+        help: "USF: strain and stress first, from the grid velocity p_i/m_i, then forces and motion",
+        citation: "Bardenhagen (2002)",
+        codes: "Karamelo scheme(usf)",
+        trace_keys: GRID_VELOCITY_KEYS,
+    },
+    ConventionInfo {
+        flag: "transfer",
+        value: "flip",
+        help: "FLIP: v_p += Δt Σ N_i a_i",
+        citation: "book Eq. (4.9); MLS paper Eq. (29)",
+        codes: "hompm, the seeds' codes, Karamelo FLIP 1.0",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "transfer",
+        value: "pic",
+        help: "PIC: v_p = Σ N_i ṽ_i, the updated grid velocity",
+        citation: "Harlow (1964); Brackbill & Ruppel (1986)",
+        codes: "Karamelo FLIP 0.0",
+        trace_keys: GRID_VELOCITY_KEYS,
+    },
+    ConventionInfo {
+        flag: "transfer",
+        value: "flip:α",
+        help: "the blend v_p = α (v_p + Δt Σ N_i a_i) + (1 − α) Σ N_i ṽ_i, 0 ≤ α ≤ 1",
+        citation: "Brackbill & Ruppel (1986); Stomakhin et al. (2013)",
+        codes: "Karamelo's FLIP ratio (e.g. 0.99)",
+        trace_keys: GRID_VELOCITY_KEYS,
+    },
+    ConventionInfo {
+        flag: "positions",
+        value: "projected",
+        help: "move particles with the projected nodal velocity: Δu_p = Δt Σ N_i v_i (the 1D default)",
+        citation: "book Eqs. (4.11)-(4.13)",
+        codes: "hompm 1D, the thesis author's code, the TLS authors' code",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "positions",
+        value: "grid",
+        help: "move particles with the updated grid velocity: Δu_p = Δt Σ N_i ṽ_i (the 2D default)",
+        citation: "MLS paper Eq. (30)",
+        codes: "hompm 2D, the MLS paper's code, Karamelo, Taichi",
+        trace_keys: GRID_VELOCITY_KEYS,
+    },
+    ConventionInfo {
+        flag: "body-force",
+        value: "particles",
+        help: "body force mapped from the particles: f_i = Σ_p N_i m_p b_p",
+        citation: "MLS paper Eq. (24); thesis §3.2",
+        codes: "hompm, the MLS paper's code",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "body-force",
+        value: "nodes",
+        help: "body force at the nodes: f_i = m_i b(X_i, t)",
+        citation: "docs/conventions.md, \"Conventions of other codes\"",
+        codes: "Karamelo",
+        trace_keys: &[],
+    },
+];
+
+/// The registered values of one flag.
+pub fn registered(flag: &str) -> impl Iterator<Item = &'static ConventionInfo> + '_ {
+    REGISTRY.iter().filter(move |c| c.flag == flag)
+}
+
+/// The registration of `value` under `flag`, or an error naming the known
+/// values.
+fn lookup(flag: &str, value: &str) -> Result<&'static ConventionInfo> {
+    registered(flag)
+        .find(|c| c.value == value)
+        .ok_or_else(|| unknown(flag, value))
+}
+
+fn unknown(flag: &str, value: &str) -> Error {
+    let known: Vec<&str> = registered(flag).map(|c| c.value).collect();
+    Error::InvalidArgument(format!(
+        "unknown --{flag} '{value}' (known: {})",
+        known.join(", ")
+    ))
+}
+
+/// `--scheme`: when the stress is updated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Scheme {
+    /// Modified update-stress-last (book §4.2.2).
+    #[default]
+    Musl,
+    /// Update-stress-last (Sulsky et al. 1994).
+    Usl,
+    /// Update-stress-first (Bardenhagen 2002).
+    Usf,
+}
+
+impl Scheme {
+    /// The command line's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::Musl => "musl",
+            Scheme::Usl => "usl",
+            Scheme::Usf => "usf",
+        }
+    }
+
+    /// The scheme called `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        let info = lookup("scheme", name)?;
+        Ok(match info.value {
+            "usl" => Scheme::Usl,
+            "usf" => Scheme::Usf,
+            _ => Scheme::Musl,
+        })
+    }
+}
+
+/// `--transfer`: how the particle velocity is updated (step 3).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Transfer {
+    /// v_p ← v_p + Δt Σ N_i a_i (book Eq. 4.9).
+    #[default]
+    Flip,
+    /// v_p ← Σ N_i ṽ_i.
+    Pic,
+    /// v_p ← α (v_p + Δt Σ N_i a_i) + (1 − α) Σ N_i ṽ_i, α in [0, 1].
+    Blend(f64),
+}
+
+impl Transfer {
+    /// The command line's word: `flip`, `pic` or `flip:α`.
+    pub fn name(self) -> String {
+        match self {
+            Transfer::Flip => "flip".into(),
+            Transfer::Pic => "pic".into(),
+            Transfer::Blend(a) => format!("flip:{a}"),
+        }
+    }
+
+    /// `flip`, `pic` or `flip:α` with 0 ≤ α ≤ 1 (`flip:1` is `flip`,
+    /// `flip:0` is `pic`).
+    pub fn from_name(name: &str) -> Result<Self> {
+        if let Some(alpha) = name.strip_prefix("flip:") {
+            let a: f64 = alpha.parse().map_err(|_| {
+                Error::InvalidArgument(format!(
+                    "--transfer flip:α needs a number α in [0, 1], got '{alpha}'"
+                ))
+            })?;
+            if !(0.0..=1.0).contains(&a) {
+                return Err(Error::InvalidArgument(format!(
+                    "--transfer flip:α needs 0 ≤ α ≤ 1, got {a}"
+                )));
+            }
+            return Ok(if a == 1.0 {
+                Transfer::Flip
+            } else if a == 0.0 {
+                Transfer::Pic
+            } else {
+                Transfer::Blend(a)
+            });
+        }
+        let info = lookup("transfer", name)?;
+        match info.value {
+            "flip" => Ok(Transfer::Flip),
+            "pic" => Ok(Transfer::Pic),
+            _ => Err(unknown("transfer", name)),
+        }
+    }
+
+    /// The weight α of the FLIP update (1 for FLIP, 0 for PIC).
+    pub fn flip_weight(self) -> f64 {
+        match self {
+            Transfer::Flip => 1.0,
+            Transfer::Pic => 0.0,
+            Transfer::Blend(a) => a,
+        }
+    }
+}
+
+/// `--positions`: the nodal velocity that moves the particles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Positions {
+    /// Δu_p = Δt Σ N_i v_i with the projected v_i (book Eq. 4.11).
+    Projected,
+    /// Δu_p = Δt Σ N_i ṽ_i with the updated grid velocity (MLS paper Eq. 30).
+    Grid,
+}
+
+impl Positions {
+    /// The command line's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Positions::Projected => "projected",
+            Positions::Grid => "grid",
+        }
+    }
+
+    /// The positions rule called `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Ok(match lookup("positions", name)?.value {
+            "grid" => Positions::Grid,
+            _ => Positions::Projected,
+        })
+    }
+}
+
+/// `--body-force`: where the body force is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum BodyForceAt {
+    /// f_i = Σ_p N_i m_p b_p (MLS paper Eq. 24; thesis §3.2).
+    #[default]
+    Particles,
+    /// f_i = m_i b(X_i, t), X_i the node's position.
+    Nodes,
+}
+
+impl BodyForceAt {
+    /// The command line's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            BodyForceAt::Particles => "particles",
+            BodyForceAt::Nodes => "nodes",
+        }
+    }
+
+    /// The body-force rule called `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Ok(match lookup("body-force", name)?.value {
+            "nodes" => BodyForceAt::Nodes,
+            _ => BodyForceAt::Particles,
+        })
+    }
+}
+
+/// The four choices of a step. The defaults are the seeds': the book's
+/// step in 1D ([`Conventions::BOOK`]) and the MLS paper's in 2D
+/// ([`Conventions::MLS_PAPER`]), which differ only in [`Positions`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Conventions {
+    /// `--scheme`.
+    pub scheme: Scheme,
+    /// `--transfer`.
+    pub transfer: Transfer,
+    /// `--positions`.
+    pub positions: Positions,
+    /// `--body-force`.
+    pub body_force: BodyForceAt,
+}
+
+impl Conventions {
+    /// The book's 1D step (§4.2.2): MUSL, FLIP, projected positions, body
+    /// force from the particles.
+    pub const BOOK: Self = Self {
+        scheme: Scheme::Musl,
+        transfer: Transfer::Flip,
+        positions: Positions::Projected,
+        body_force: BodyForceAt::Particles,
+    };
+
+    /// The MLS paper's 2D step (Eqs. 18–37): as [`Self::BOOK`] but with the
+    /// positions of Eq. (30).
+    pub const MLS_PAPER: Self = Self {
+        positions: Positions::Grid,
+        ..Self::BOOK
+    };
+
+    /// Whether these are the book's ([`Self::BOOK`]).
+    pub fn is_book(&self) -> bool {
+        *self == Self::BOOK
+    }
+
+    /// Whether these are the MLS paper's ([`Self::MLS_PAPER`]).
+    pub fn is_mls_paper(&self) -> bool {
+        *self == Self::MLS_PAPER
+    }
+
+    /// The default of a dimension (1 or 2).
+    pub fn default_for(dimension: usize) -> Self {
+        if dimension == 2 {
+            Self::MLS_PAPER
+        } else {
+            Self::BOOK
+        }
+    }
+
+    /// Whether the step needs the grid velocity v_i^n and its update ṽ_i
+    /// (module doc): every non-default scheme, transfer or positions rule.
+    pub fn needs_grid_velocity(&self) -> bool {
+        self.scheme != Scheme::Musl
+            || self.transfer != Transfer::Flip
+            || self.positions == Positions::Grid
+    }
+
+    /// The non-default choices as `--flag value` words, for a header and a
+    /// verdict; empty for the dimension's default.
+    pub fn flags(&self, dimension: usize) -> Vec<String> {
+        let d = Self::default_for(dimension);
+        let mut out = Vec::new();
+        if self.scheme != d.scheme {
+            out.push(format!("--scheme {}", self.scheme.name()));
+        }
+        if self.transfer != d.transfer {
+            out.push(format!("--transfer {}", self.transfer.name()));
+        }
+        if self.positions != d.positions {
+            out.push(format!("--positions {}", self.positions.name()));
+        }
+        if self.body_force != d.body_force {
+            out.push(format!("--body-force {}", self.body_force.name()));
+        }
+        out
+    }
+
+    /// Refuses the combinations that mean nothing: USL and USF project
+    /// nothing, so they move the particles with the grid velocity.
+    pub fn validate(&self) -> Result<()> {
+        if self.scheme != Scheme::Musl && self.positions == Positions::Projected {
+            return Err(Error::InvalidArgument(format!(
+                "--scheme {} has no projected velocity to move the particles with; \
+                 use --positions grid",
+                self.scheme.name()
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl Default for Conventions {
+    fn default() -> Self {
+        Self::BOOK
+    }
+}
+
+impl Serialize for Conventions {
+    /// As `{"scheme": "usl", "transfer": "flip:0.99", …}`.
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(4))?;
+        m.serialize_entry("scheme", self.scheme.name())?;
+        m.serialize_entry("transfer", &self.transfer.name())?;
+        m.serialize_entry("positions", self.positions.name())?;
+        m.serialize_entry("body-force", self.body_force.name())?;
+        m.end()
+    }
+}

@@ -1,0 +1,234 @@
+//! `--scheme`, `--transfer`, `--positions`, `--body-force` and `--solution`
+//! on the command line: valid in `run`, `trace` and `check`, named in the
+//! verdict, matched against a file that names them, refused where they
+//! mean nothing (docs/conventions.md, "Conventions of other codes").
+
+use serde_json::Value;
+use std::path::PathBuf;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("conventions-cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+const BAR: &[&str] = &["vibrating-bar", "--cells", "4", "--steps", "20"];
+
+fn run(extra: &[&str]) -> hompm::Result<hompm::cli::Output> {
+    let mut args = vec!["run"];
+    args.extend_from_slice(BAR);
+    args.extend_from_slice(extra);
+    hompm::cli::run(&args)
+}
+
+fn check(file: &std::path::Path, extra: &[&str]) -> hompm::Result<hompm::cli::Output> {
+    let mut args = vec!["check"];
+    args.extend_from_slice(BAR);
+    args.extend_from_slice(extra);
+    let f = file.to_str().unwrap().to_string();
+    args.extend_from_slice(&["--input", &f]);
+    hompm::cli::run(&args)
+}
+
+#[test]
+fn a_run_with_another_codes_conventions_names_them_and_its_own_check_agrees_bit_for_bit() {
+    for flags in [
+        &["--scheme", "usl"][..],
+        &["--scheme", "usf"],
+        &["--transfer", "flip:0.99"],
+        &["--transfer", "pic"],
+        &["--positions", "grid"],
+    ] {
+        let mut with_json = flags.to_vec();
+        with_json.push("--json");
+        let text = run(&with_json).unwrap().stdout;
+        let doc: Value = serde_json::from_str(&text).unwrap();
+        assert!(doc["conventions"].is_object(), "{flags:?}");
+        let file = scratch(&format!("{}.json", flags.join("_").replace(':', "-")));
+        std::fs::write(&file, &text).unwrap();
+        let out = check(&file, flags).unwrap();
+        assert!(
+            out.stdout.starts_with("agrees"),
+            "{flags:?}: {}",
+            out.stdout
+        );
+        assert!(
+            out.stdout.contains(flags[1]),
+            "the verdict names {flags:?}: {}",
+            out.stdout
+        );
+        // The same file against the book's step is refused, never compared.
+        let e = check(&file, &[]).err().unwrap().to_string();
+        assert!(e.contains("the file says"), "{e}");
+    }
+}
+
+#[test]
+fn the_default_conventions_leave_the_run_document_unchanged() {
+    let plain: Value = serde_json::from_str(&run(&["--json"]).unwrap().stdout).unwrap();
+    assert!(plain.get("conventions").is_none());
+    let named = run(&[
+        "--json",
+        "--scheme",
+        "musl",
+        "--transfer",
+        "flip",
+        "--positions",
+        "projected",
+    ])
+    .unwrap()
+    .stdout;
+    assert_eq!(serde_json::from_str::<Value>(&named).unwrap(), plain);
+}
+
+#[test]
+fn another_codes_step_differs_from_the_books_where_a_check_can_see_it() {
+    // USF's velocity at 16 cells over 1999 steps differs by 3e-7 relative,
+    // 300 tolerances: a file without metadata is reported as differing.
+    let text = hompm::cli::run([
+        "run",
+        "vibrating-bar",
+        "--cells",
+        "16",
+        "--steps",
+        "1999",
+        "--scheme",
+        "usf",
+        "--json",
+    ])
+    .unwrap()
+    .stdout;
+    let mut doc: Value = serde_json::from_str(&text).unwrap();
+    doc.as_object_mut().unwrap().remove("conventions");
+    let file = scratch("usf-anonymous.json");
+    std::fs::write(&file, doc.to_string()).unwrap();
+    let out = hompm::cli::run([
+        "check",
+        "vibrating-bar",
+        "--cells",
+        "16",
+        "--steps",
+        "1999",
+        "--input",
+        file.to_str().unwrap(),
+    ])
+    .unwrap();
+    assert!(out.failure.is_some());
+    assert!(out.stdout.starts_with("differs"), "{}", out.stdout);
+}
+
+#[test]
+fn a_trace_of_another_codes_step_carries_its_grid_velocity_keys_and_the_check_names_what_it_left_out(
+) {
+    let mut args = vec!["trace"];
+    args.extend_from_slice(BAR);
+    args.extend_from_slice(&["--scheme", "usl", "--json"]);
+    let text = hompm::cli::run(&args).unwrap().stdout;
+    let mut doc: Value = serde_json::from_str(&text).unwrap();
+    let step = &doc["steps"][0]["equations"];
+    for key in ["nodal-momentum", "nodal-velocity", "nodal-velocity-updated"] {
+        assert!(step.get(key).is_some(), "{key}");
+    }
+    assert!(step.get("book-4.10").is_none(), "USL projects nothing");
+    // Without the header's conventions the check compares what both trace
+    // and says what it left out, both ways.
+    doc["header"]["discretisation"]
+        .as_object_mut()
+        .unwrap()
+        .remove("conventions");
+    let file = scratch("usl-trace.json");
+    std::fs::write(&file, doc.to_string()).unwrap();
+    let out = match check(&file, &[]) {
+        Ok(o) => o.stdout,
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        out.contains("not compared: your trace's keys nodal-momentum"),
+        "{out}"
+    );
+    assert!(out.contains("another code's step"), "{out}");
+    assert!(
+        out.contains("not in your trace: hompm's keys book-4.10"),
+        "{out}"
+    );
+}
+
+#[test]
+fn conventions_are_refused_where_they_mean_nothing() {
+    let cases: [&[&str]; 6] = [
+        &["--scheme", "usl", "--positions", "projected"],
+        &["--scheme", "usl", "--mapping", "tls", "--method", "bsmpm"],
+        &["--transfer", "flip:1.5"],
+        &["--transfer", "apic"],
+        &["--scheme", "mls"],
+        &["--solution", "axis-aligned"],
+    ];
+    for flags in cases {
+        assert!(run(flags).is_err(), "{flags:?}");
+    }
+    let e = hompm::cli::run([
+        "run",
+        "aligned-vibration",
+        "--cells",
+        "2",
+        "--steps",
+        "1",
+        "--scheme",
+        "usf",
+    ])
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("1D only"), "{e}");
+}
+
+#[test]
+fn the_axis_aligned_solution_runs_in_2d_and_its_exact_fields_follow_it() {
+    let args = [
+        "aligned-vibration",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "10",
+        "--solution",
+        "axis-aligned",
+        "--body-force",
+        "nodes",
+        "--method",
+        "mpm",
+    ];
+    let mut run_args = vec!["run"];
+    run_args.extend_from_slice(&args);
+    let out = hompm::cli::run(&run_args).unwrap().stdout;
+    assert!(
+        out.contains("--solution axis-aligned") && out.contains("--body-force nodes"),
+        "{out}"
+    );
+    let exact = |form: &str| -> Value {
+        serde_json::from_str(
+            &hompm::cli::run([
+                "exact",
+                "aligned-vibration",
+                "--time",
+                "0.001",
+                "--cells",
+                "1",
+                "--ppc",
+                "1",
+                "--solution",
+                form,
+                "--json",
+            ])
+            .unwrap()
+            .stdout,
+        )
+        .unwrap()
+    };
+    // One particle at X = (½, ½): sin(π/2) = 1 in the axis-aligned form,
+    // sin(π) = 0 in the paper's.
+    let aligned = exact("axis-aligned").to_string();
+    let paper = exact("mls-paper").to_string();
+    assert_ne!(aligned, paper);
+}
