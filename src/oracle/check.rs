@@ -51,11 +51,12 @@
 use super::columns::x0_columns;
 pub use super::columns::{field_columns, PHYSICAL_FIELDS};
 use super::compare::{
-    compare_field, exact_errors, first_difference, saturate, sci, Tolerance, TraceComparison,
+    compare_field, exact_errors, first_difference, saturate, scale_of, sci, Tolerance,
+    TraceComparison,
 };
 pub use super::compare::{FieldReport, FirstDifference, Pair, ValueAt};
 use super::exact::{exact_1d, exact_2d};
-use super::input::Input;
+use super::input::{Input, ParticleTable};
 use super::provenance::check_steps;
 pub use super::provenance::{check_header, check_metadata};
 use super::setup::Setup;
@@ -126,6 +127,8 @@ pub struct CheckReport {
     /// The file's columns that were not compared (not hompm's names).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub ignored_columns: Vec<String>,
+    /// hompm's columns derived from the other code's (`u = x − x0`).
+    pub derived_columns: Vec<String>,
     /// Where the traces first differ (with a trace).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_difference: Option<FirstDifference>,
@@ -258,8 +261,17 @@ pub fn check(
     let tolerance = o.tolerance();
     let mut fields = BTreeMap::new();
     let mut compared_fields = Vec::new();
+    let floor = derived_rounding(&theirs, setup.steps());
     for (field, columns) in field_columns(state.two_d) {
-        let Some(mut r) = compare_field(columns, &theirs, &state.particles, &perm, &tolerance)?
+        let derived = columns.iter().any(|c| {
+            theirs
+                .derived
+                .iter()
+                .any(|d| d.starts_with(&format!("{c} =")))
+        });
+        let least = if derived { floor } else { 0.0 };
+        let Some(mut r) =
+            compare_field(columns, &theirs, &state.particles, &perm, &tolerance, least)?
         else {
             continue;
         };
@@ -320,6 +332,7 @@ pub fn check(
         compared_fields,
         fields,
         ignored_columns: theirs.ignored.clone(),
+        derived_columns: theirs.derived.clone(),
         first_difference: traced.first,
         compared_equations: traced.compared,
         ignored_equations: traced.ignored,
@@ -453,6 +466,14 @@ fn verdict(r: &CheckReport) -> String {
             ));
         }
     }
+    if !r.derived_columns.is_empty() {
+        let floor = r.fields.get("u").map_or(0.0, |f| f.atol_abs);
+        lines.push(format!(
+            "derived from your columns: {} (compared as hompm's; differences below {} absolute, 4√n·ε·max|x| for the rounding your positions gather over n steps, are not visible: write u to see them)",
+            list(&r.derived_columns),
+            sci(floor, 1)
+        ));
+    }
     if !r.ignored_columns.is_empty() {
         lines.push(format!(
             "not compared: your columns {} (not hompm's names; map them with --columns ours=theirs)",
@@ -483,4 +504,21 @@ fn verdict(r: &CheckReport) -> String {
         ));
     }
     lines.join("\n")
+}
+
+/// The least absolute tolerance of a displacement derived as x − x0:
+/// 4√n·ε·max|x|, four standard deviations of the rounding a position
+/// gathers over n steps when each step rounds x by at most ε|x|
+/// (docs/conventions.md, "Conventions of other codes"). 0 when nothing
+/// is derived.
+fn derived_rounding(theirs: &ParticleTable, steps: usize) -> f64 {
+    if theirs.derived.is_empty() {
+        return 0.0;
+    }
+    let largest = ["x", "x_x", "x_y"]
+        .iter()
+        .filter_map(|c| theirs.column(c))
+        .map(|v| scale_of(v.iter()))
+        .fold(0.0, f64::max);
+    4.0 * (steps.max(1) as f64).sqrt() * f64::EPSILON * largest
 }

@@ -141,13 +141,16 @@ pub struct FieldReport {
 
 /// Compares one field's `columns` that both tables have: row `r` of
 /// `theirs` against particle `perm[r]` of `ours`. `None` if neither
-/// gives any of them.
+/// gives any of them. `floor` is the least absolute tolerance: 0, or for
+/// a column derived from the other code's (`u = x − x0`) the rounding it
+/// carries (`oracle::check`).
 pub fn compare_field(
     columns: &[&str],
     theirs: &ParticleTable,
     ours: &ParticleTable,
     perm: &[usize],
     t: &Tolerance,
+    floor: f64,
 ) -> Result<Option<FieldReport>> {
     let present: Vec<(&str, &[f64], &[f64])> = columns
         .iter()
@@ -165,7 +168,7 @@ pub fn compare_field(
         ))
     };
     let scale = scale_of(present.iter().flat_map(|(_, _, h)| h.iter()));
-    let atol_abs = t.atol * scale;
+    let atol_abs = (t.atol * scale).max(floor);
     let mut r = FieldReport {
         columns: present.iter().map(|(c, _, _)| c.to_string()).collect(),
         scale,

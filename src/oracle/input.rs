@@ -12,12 +12,16 @@
 //!   `_x`/`_y` and `_xx`… columns), an object of columns, an array of row
 //!   objects, or a trace (`"schema": "hompm-trace"`).
 //!
-//! Column names are hompm's ([`known_columns`]); `--columns ours=theirs`
+//! - **LAMMPS-style dump files** (Karamelo and other LAMMPS-derived
+//!   codes), one timestep block, the last unless `--dump-step` names
+//!   another ([`super::input_dump`]).
+//!
+//! `--format` forces one reader ([`Format`]). Column names are hompm's ([`known_columns`]); `--columns ours=theirs`
 //! renames the file's. Every value must be a finite number. Anything
 //! unusable is [`Error::Input`] with one sentence naming the row and
 //! column.
 //!
-//! Items: [`ParticleTable`], [`Input`], [`read_input`], [`parse_input`],
+//! Items: [`ParticleTable`], [`Input`], [`Format`], [`read_input`], [`parse_input`], [`parse_input_as`],
 //! [`known_columns`], [`ColumnMap`].
 
 pub use super::columns::known_columns;
@@ -136,14 +140,52 @@ pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
 /// columns that are not hompm's (not compared; also in
 /// [`ParticleTable::ignored`]).
 pub fn parse_input(text: &str, map: &ColumnMap, two_d: bool) -> Result<(Input, Vec<String>)> {
+    parse_input_as(text, Format::Auto, None, map, two_d)
+}
+
+/// `--format`: how an input file is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Format {
+    /// By its first non-blank text: `{` or `[` JSON, `ITEM:` a LAMMPS
+    /// dump, anything else CSV.
+    #[default]
+    Auto,
+    /// CSV with a header line.
+    Csv,
+    /// JSON (hompm's run document, columns, rows or a trace).
+    Json,
+    /// A LAMMPS-style dump file (Karamelo; `oracle::input_dump`).
+    LammpsDump,
+}
+
+/// [`parse_input`] with the format forced (or detected) and, for a dump
+/// file, the timestep to read (default: the last).
+pub fn parse_input_as(
+    text: &str,
+    format: Format,
+    dump_step: Option<u64>,
+    map: &ColumnMap,
+    two_d: bool,
+) -> Result<(Input, Vec<String>)> {
     let trimmed = text.trim_start();
     if trimmed.is_empty() {
         return Err(Error::Input("the file is empty".into()));
     }
-    let parsed = if trimmed.starts_with('{') || trimmed.starts_with('[') {
-        super::input_json::parse_json(trimmed)?
-    } else {
-        parse_csv(text)?
+    let format = match format {
+        Format::Auto if trimmed.starts_with('{') || trimmed.starts_with('[') => Format::Json,
+        Format::Auto if super::input_dump::is_dump(trimmed) => Format::LammpsDump,
+        Format::Auto => Format::Csv,
+        given => given,
+    };
+    if dump_step.is_some() && format != Format::LammpsDump {
+        return Err(Error::Input(
+            "--dump-step applies to a LAMMPS dump file only".into(),
+        ));
+    }
+    let parsed = match format {
+        Format::Json => super::input_json::parse_json(trimmed)?,
+        Format::LammpsDump => super::input_dump::parse_dump(text, dump_step)?,
+        _ => parse_csv(text)?,
     };
     match parsed {
         Parsed::Trace(t) => Ok((Input::Trace(t), Vec::new())),
@@ -212,7 +254,34 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
         return Err(Error::Input("the file has no particles".into()));
     }
     out.ignored = ignored;
+    derive_displacement(&mut out, two_d)?;
     Ok(out)
+}
+
+/// u = x − x0 where the file has positions but no displacement, so that a
+/// code that writes only x (Karamelo's dumps) is compared in u, whose
+/// scale is the motion's, not the domain's: x's tolerance, scaled by
+/// max |x| ≈ L, cannot see a difference of 1e-9 of the displacement. The
+/// subtraction rounds at ε·L, far below the tolerance of u for any motion
+/// larger than 1e-6 L. Recorded in [`ParticleTable::derived`].
+fn derive_displacement(t: &mut ParticleTable, two_d: bool) -> Result<()> {
+    let axes: &[(&str, &str, &str)] = if two_d {
+        &[("u_x", "x_x", "x0_x"), ("u_y", "x_y", "x0_y")]
+    } else {
+        &[("u", "x", "x0")]
+    };
+    for (u, x, x0) in axes {
+        if t.column(u).is_some() {
+            continue;
+        }
+        let (Some(xs), Some(x0s)) = (t.column(x), t.column(x0)) else {
+            continue;
+        };
+        let values: Vec<f64> = xs.iter().zip(x0s).map(|(a, b)| a - b).collect();
+        t.columns.push((u.to_string(), values));
+        t.derived.push(format!("{u} = {x} − {x0}"));
+    }
+    Ok(())
 }
 
 /// Why a column that is not one of hompm's must not be ignored: it is

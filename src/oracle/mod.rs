@@ -16,8 +16,8 @@
 //!   (book Eqs. 4.5–4.18), recorded by a [`StepObserver`](crate::mpm::musl::StepObserver);
 //! - [`columns`]: the column schema of the particles, declared once;
 //! - [`input`]: the other code's particles or trace, in CSV or JSON,
-//!   read strictly ([`input_json`] for JSON) into a [`table`] of named
-//!   columns;
+//!   read strictly ([`input_json`] for JSON, [`input_dump`] for LAMMPS-style
+//!   dump files) into a [`table`] of named columns;
 //! - [`provenance`]: whether a file is of the run it is compared with;
 //! - [`state`]: hompm's particles as the check's table, and the matching
 //!   of the other code's particles;
@@ -28,7 +28,7 @@
 //! - [`convergence`](mod@convergence): observed orders over resolutions;
 //! - [`visibility`]: what the tolerance can see at a check's Δt.
 //!
-//! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`table`], [`provenance`], [`state`],
+//! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`input_dump`], [`table`], [`provenance`], [`state`],
 //! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
 //! [`method_label_1d`], [`conventions_suffix`], [`INPUT_MEMORY_FACTOR`].
 
@@ -39,6 +39,7 @@ pub mod convergence;
 pub mod equations;
 pub mod exact;
 pub mod input;
+pub mod input_dump;
 pub mod input_json;
 pub mod provenance;
 pub mod run;

@@ -24,6 +24,9 @@ pub struct ParticleTable {
     /// The file's columns that are not hompm's (not compared), by the
     /// file's names.
     pub ignored: Vec<String>,
+    /// hompm's columns derived from the file's, e.g. `u = x − x0` where
+    /// the file has positions but no displacement (Karamelo's dumps).
+    pub derived: Vec<String>,
 }
 
 impl ParticleTable {

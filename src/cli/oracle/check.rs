@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::oracle::check::{check as compare, CheckOptions, MatchBy};
 use crate::oracle::compare::sci;
 use crate::oracle::convergence::convergence;
-use crate::oracle::input::{parse_input, read_input, ColumnMap, Input};
+use crate::oracle::input::{parse_input_as, read_input, ColumnMap, Input};
 use crate::oracle::run::reference;
 use crate::oracle::setup::Setup;
 use crate::oracle::trace::{header_1d, header_2d};
@@ -23,7 +23,13 @@ use crate::oracle::visibility::time_resolution;
 /// Reads and parses one input file.
 fn read(path: &std::path::Path, a: &CheckArgs, limits: &Limits) -> Result<(Input, Vec<String>)> {
     let text = read_input(path, limits.max_memory)?;
-    parse_input(&text, &ColumnMap::parse(&a.columns)?, a.setup.two_d())
+    parse_input_as(
+        &text,
+        a.format,
+        a.dump_step,
+        &ColumnMap::parse(&a.columns)?,
+        a.setup.two_d(),
+    )
 }
 
 /// `hompm check`.

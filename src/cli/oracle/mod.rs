@@ -23,6 +23,7 @@ pub use trace::trace;
 
 use super::setup_args::SetupArgs;
 use crate::error::Error;
+use crate::oracle::input::Format;
 use clap::ValueEnum;
 use std::path::PathBuf;
 
@@ -95,6 +96,13 @@ pub struct CheckArgs {
     /// (cells from each file's `# cells:` line or JSON `cells`, or --cells).
     #[arg(long, num_args = 1.., conflicts_with = "input")]
     convergence: Vec<PathBuf>,
+    /// How --input is read: auto (by its first text: JSON, a LAMMPS dump
+    /// or CSV), csv, json or lammps-dump.
+    #[arg(long, value_enum, default_value_t = Format::Auto)]
+    format: Format,
+    /// The timestep block of a LAMMPS dump file to read (default: the last).
+    #[arg(long = "dump-step", value_parser = clap::value_parser!(u64))]
+    dump_step: Option<u64>,
     /// Column names: ours=theirs,… (e.g. x0_x=X0,u_x=ux).
     #[arg(long, default_value = "")]
     columns: String,

@@ -310,15 +310,23 @@ fn two_of_hompm_s_fields_mapped_to_one_column_are_refused() {
 
 #[test]
 fn a_file_that_gives_none_of_u_v_stress_or_f_is_refused_naming_what_was_ignored() {
-    let csv = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,x,ux,vx,s11,", 1);
+    let csv = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,X,ux,vx,s11,", 1);
     check(SETUP_1D, "nophys.csv", &csv, &[])
-        .refused("none of u, v, stress or F (u, v, stress); the file's other columns, ux, vx, s11, were ignored");
+        .refused("none of u, v, stress or F (u, v, stress); the file's other columns, X, ux, vx, s11, were ignored");
+    // With hompm's x and x0 the displacement is derived as x − x0 and
+    // compared, and the verdict says so.
+    let derived = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,x,ux,vx,s11,", 1);
+    let out = check(SETUP_1D, "derived.csv", &derived, &[]).agrees();
+    assert!(
+        out.contains("derived from your columns: u = x − x0"),
+        "{out}"
+    );
     // Mapped, the same file agrees, and the verdict names what it compared.
     let out = check(
         SETUP_1D,
         "nophys.csv",
         &csv,
-        &["--columns", "u=ux,v=vx,stress=s11"],
+        &["--columns", "u=ux,v=vx,stress=s11,x=X"],
     )
     .agrees();
     assert!(
@@ -326,13 +334,10 @@ fn a_file_that_gives_none_of_u_v_stress_or_f_is_refused_naming_what_was_ignored(
         "{out}"
     );
     // One physical field is enough, and the verdict names only what it saw.
-    let only_v = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,x,ux,v,s11,", 1);
+    let only_v = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,X,ux,v,s11,", 1);
     let out = check(SETUP_1D, "onlyv.csv", &only_v, &[]).agrees();
-    assert!(
-        out.contains("bit for bit in v, x0, x, volume, density"),
-        "{out}"
-    );
-    assert!(out.contains("not compared: your columns ux, s11"), "{out}");
+    assert!(out.contains("bit for bit in v, x0, volume, density"), "{out}");
+    assert!(out.contains("not compared: your columns X, ux, s11"), "{out}");
 }
 
 #[test]

@@ -6,5 +6,6 @@ mod cli_contract;
 mod cli_fuzz;
 mod commands;
 mod conventions_cli;
+mod dump_input;
 mod oracle;
 mod oracle_doc;
