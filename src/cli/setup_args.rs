@@ -13,7 +13,9 @@
 use super::args::{count, name, node_integrals, MappingArg, MassArg, MethodArg, SceneArg};
 use super::limits::Limits;
 use crate::error::{Error, Result};
-use crate::mpm::conventions::{registered, BodyForceAt, Conventions, Positions, Scheme, Transfer};
+use crate::mpm::conventions::{
+    registered, BodyForceAt, Conventions, Gradient, Knots, Positions, Scheme, Transfer,
+};
 use crate::mpm::grid::NodeIntegrals;
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use crate::mpm::musl::Constitutive;
@@ -142,6 +144,12 @@ pub struct SetupArgs {
     /// Where the body force is evaluated; default particles.
     #[arg(long = "body-force", value_parser = convention::<BodyForceAt>, help = convention_help("body-force"))]
     pub body_force: Option<BodyForceAt>,
+    /// The B-spline knots (2D); default open.
+    #[arg(long, value_parser = convention::<Knots>, help = convention_help("knots"))]
+    pub knots: Option<Knots>,
+    /// The velocity gradient and internal force (2D); default basis.
+    #[arg(long, value_parser = convention::<Gradient>, help = convention_help("gradient"))]
+    pub gradient: Option<Gradient>,
     /// The form of the aligned vibration's manufactured solution.
     #[arg(long, value_parser = solution_form, help = "mls-paper: u = A sin(2πX/L) sin(cπt/L), MLS paper Eq. (38) (default); axis-aligned: u = A sin(πX/L) sin(cπt/L), Wallstedt & Guilkey (2008), Uintah's AxisAligned MMS, mpmat, the MLS paper's own code")]
     pub solution: Option<SolutionForm>,
@@ -185,6 +193,18 @@ impl FromConventionName for Transfer {
 impl FromConventionName for Positions {
     fn from_convention_name(name: &str) -> Result<Self> {
         Positions::from_name(name)
+    }
+}
+
+impl FromConventionName for Knots {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        Knots::from_name(name)
+    }
+}
+
+impl FromConventionName for Gradient {
+    fn from_convention_name(name: &str) -> Result<Self> {
+        Gradient::from_name(name)
     }
 }
 
@@ -253,7 +273,14 @@ impl SetupArgs {
     /// flag given on top, checked.
     pub fn conventions(&self) -> Result<Conventions> {
         let mut c = Conventions::default_for(if self.two_d() { 2 } else { 1 });
-        c.scheme = self.scheme.unwrap_or(c.scheme);
+        // APIC is Taichi's update-stress-last step unless --scheme says
+        // otherwise (and is refused).
+        let apic = self.transfer == Some(Transfer::Apic);
+        c.scheme = self
+            .scheme
+            .unwrap_or(if apic { Scheme::Usl } else { c.scheme });
+        c.knots = self.knots.unwrap_or(c.knots);
+        c.gradient = self.gradient.unwrap_or(c.gradient);
         c.transfer = self.transfer.unwrap_or(c.transfer);
         // USL and USF project nothing: they move the particles with the
         // grid velocity unless --positions says otherwise (and is refused).

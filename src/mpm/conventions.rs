@@ -27,7 +27,11 @@
 //! Dirichlet DOF it is 0. The updated grid velocity is ṽ_i = v_i^n + Δt a_i
 //! (MLS paper Eqs. 27–28, written per unit mass), 0 on a Dirichlet DOF.
 //!
-//! Items: [`Scheme`], [`Transfer`], [`Positions`], [`BodyForceAt`],
+//! - [`Knots`] (`--knots`) and [`Gradient`] (`--gradient`), 2D only: Taichi's
+//!   padded uniform quadratic B-splines and the MLS-MPM gradient from APIC's
+//!   C_p (Hu et al. 2018).
+//!
+//! Items: [`Scheme`], [`Transfer`], [`Positions`], [`BodyForceAt`], [`Knots`], [`Gradient`],
 //! [`Conventions`], [`ConventionInfo`], [`REGISTRY`], [`registered`].
 
 use crate::error::{Error, Result};
@@ -105,6 +109,14 @@ pub const REGISTRY: &[ConventionInfo] = &[
         trace_keys: GRID_VELOCITY_KEYS,
     },
     ConventionInfo {
+        flag: "transfer",
+        value: "apic",
+        help: "APIC: v_p = Σ N_i ṽ_i and the affine C_p = Σ N_i ṽ_i ⊗ (x_i − x_p) D_p⁻¹, carried to the grid as m_p C_p (x_i − x_p); 2D, with --scheme usl",
+        citation: "Jiang, Schroeder, Selle, Teran & Stomakhin (2015)",
+        codes: "Taichi's mpm88/mpm99 (MLS-MPM, Hu et al. 2018)",
+        trace_keys: &[],
+    },
+    ConventionInfo {
         flag: "positions",
         value: "projected",
         help: "move particles with the projected nodal velocity: Δu_p = Δt Σ N_i v_i (the 1D default)",
@@ -134,6 +146,38 @@ pub const REGISTRY: &[ConventionInfo] = &[
         help: "body force at the nodes: f_i = m_i b(X_i, t)",
         citation: "docs/conventions.md, \"Conventions of other codes\"",
         codes: "Karamelo",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "knots",
+        value: "open",
+        help: "open (clamped) uniform knot vectors on [0, L]: no basis function reaches past a wall",
+        citation: "book §4.3; thesis §6.1; MLS paper §2",
+        codes: "hompm, the seeds' codes",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "knots",
+        value: "padded",
+        help: "uniform node-centred quadratic B-splines with one node beyond each wall; the wall condition on the nodes at and beyond it; 2D",
+        citation: "Steffen, Kirby & Berzins (2008); Hu et al. (2018)",
+        codes: "Taichi's mpm88/mpm99",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "gradient",
+        value: "basis",
+        help: "velocity gradient Σ v_i ⊗ ∇N_i and internal force −Σ V_p σ_p ∇N_i",
+        citation: "book Eqs. (4.6), (4.14); MLS paper Eqs. (25), (34)",
+        codes: "hompm, the seeds' codes, Karamelo",
+        trace_keys: &[],
+    },
+    ConventionInfo {
+        flag: "gradient",
+        value: "affine",
+        help: "MLS-MPM: velocity gradient C_p and internal force −Σ V_p σ_p D_p⁻¹ (x_i − x_p) N_i; 2D, with --transfer apic",
+        citation: "Hu, Fang, Ge, Qu, Zhu, Pradhana & Jiang (2018), MLS-MPM",
+        codes: "Taichi's mpm88/mpm99",
         trace_keys: &[],
     },
 ];
@@ -202,6 +246,9 @@ pub enum Transfer {
     Pic,
     /// v_p ← α (v_p + Δt Σ N_i a_i) + (1 − α) Σ N_i ṽ_i, α in [0, 1].
     Blend(f64),
+    /// v_p ← Σ N_i ṽ_i and C_p ← Σ N_i ṽ_i ⊗ (x_i − x_p) D_p⁻¹ (Jiang et
+    /// al. 2015); the grid momentum gains m_p C_p (x_i − x_p).
+    Apic,
 }
 
 impl Transfer {
@@ -211,6 +258,7 @@ impl Transfer {
             Transfer::Flip => "flip".into(),
             Transfer::Pic => "pic".into(),
             Transfer::Blend(a) => format!("flip:{a}"),
+            Transfer::Apic => "apic".into(),
         }
     }
 
@@ -240,15 +288,16 @@ impl Transfer {
         match info.value {
             "flip" => Ok(Transfer::Flip),
             "pic" => Ok(Transfer::Pic),
+            "apic" => Ok(Transfer::Apic),
             _ => Err(unknown("transfer", name)),
         }
     }
 
-    /// The weight α of the FLIP update (1 for FLIP, 0 for PIC).
+    /// The weight α of the FLIP update (1 for FLIP, 0 for PIC and APIC).
     pub fn flip_weight(self) -> f64 {
         match self {
             Transfer::Flip => 1.0,
-            Transfer::Pic => 0.0,
+            Transfer::Pic | Transfer::Apic => 0.0,
             Transfer::Blend(a) => a,
         }
     }
@@ -309,6 +358,64 @@ impl BodyForceAt {
     }
 }
 
+/// `--knots`: the B-spline basis of the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Knots {
+    /// Open uniform knot vectors on [0, L] (book §4.3).
+    #[default]
+    Open,
+    /// Uniform node-centred quadratic B-splines, nodes at i·h for
+    /// i = −1 … cells + 1 (Taichi).
+    Padded,
+}
+
+impl Knots {
+    /// The command line's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Knots::Open => "open",
+            Knots::Padded => "padded",
+        }
+    }
+
+    /// The knots called `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Ok(match lookup("knots", name)?.value {
+            "padded" => Knots::Padded,
+            _ => Knots::Open,
+        })
+    }
+}
+
+/// `--gradient`: how the velocity gradient and the internal force are
+/// formed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Gradient {
+    /// From the basis gradient ∇N_i.
+    #[default]
+    Basis,
+    /// From the affine C_p and D_p⁻¹ (x_i − x_p) N_i (MLS-MPM).
+    Affine,
+}
+
+impl Gradient {
+    /// The command line's word.
+    pub fn name(self) -> &'static str {
+        match self {
+            Gradient::Basis => "basis",
+            Gradient::Affine => "affine",
+        }
+    }
+
+    /// The gradient rule called `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Ok(match lookup("gradient", name)?.value {
+            "affine" => Gradient::Affine,
+            _ => Gradient::Basis,
+        })
+    }
+}
+
 /// The four choices of a step. The defaults are the seeds': the book's
 /// step in 1D ([`Conventions::BOOK`]) and the MLS paper's in 2D
 /// ([`Conventions::MLS_PAPER`]), which differ only in [`Positions`].
@@ -322,6 +429,10 @@ pub struct Conventions {
     pub positions: Positions,
     /// `--body-force`.
     pub body_force: BodyForceAt,
+    /// `--knots`.
+    pub knots: Knots,
+    /// `--gradient`.
+    pub gradient: Gradient,
 }
 
 impl Conventions {
@@ -332,6 +443,8 @@ impl Conventions {
         transfer: Transfer::Flip,
         positions: Positions::Projected,
         body_force: BodyForceAt::Particles,
+        knots: Knots::Open,
+        gradient: Gradient::Basis,
     };
 
     /// The MLS paper's 2D step (Eqs. 18–37): as [`Self::BOOK`] but with the
@@ -385,6 +498,12 @@ impl Conventions {
         if self.body_force != d.body_force {
             out.push(format!("--body-force {}", self.body_force.name()));
         }
+        if self.knots != d.knots {
+            out.push(format!("--knots {}", self.knots.name()));
+        }
+        if self.gradient != d.gradient {
+            out.push(format!("--gradient {}", self.gradient.name()));
+        }
         out
     }
 
@@ -398,7 +517,25 @@ impl Conventions {
                 self.scheme.name()
             )));
         }
+        if self.transfer == Transfer::Apic && self.scheme != Scheme::Usl {
+            return Err(Error::InvalidArgument(
+                "--transfer apic runs with --scheme usl (Taichi's MLS-MPM step); a second projection of C_p is not defined here".into(),
+            ));
+        }
+        if self.gradient == Gradient::Affine && self.transfer != Transfer::Apic {
+            return Err(Error::InvalidArgument(
+                "--gradient affine needs the C_p of --transfer apic".into(),
+            ));
+        }
         Ok(())
+    }
+
+    /// Whether these use a convention the 1D step does not have (APIC,
+    /// the affine gradient, padded knots).
+    pub fn is_two_d_only(&self) -> bool {
+        self.transfer == Transfer::Apic
+            || self.gradient == Gradient::Affine
+            || self.knots == Knots::Padded
     }
 }
 
@@ -412,11 +549,13 @@ impl Serialize for Conventions {
     /// As `{"scheme": "usl", "transfer": "flip:0.99", …}`.
     fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let mut m = s.serialize_map(Some(4))?;
+        let mut m = s.serialize_map(Some(6))?;
         m.serialize_entry("scheme", self.scheme.name())?;
         m.serialize_entry("transfer", &self.transfer.name())?;
         m.serialize_entry("positions", self.positions.name())?;
         m.serialize_entry("body-force", self.body_force.name())?;
+        m.serialize_entry("knots", self.knots.name())?;
+        m.serialize_entry("gradient", self.gradient.name())?;
         m.end()
     }
 }

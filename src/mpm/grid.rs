@@ -152,6 +152,30 @@ impl Grid {
                 GridBasis::BSpline(KnotVector::open_uniform(a, b, cells, degree)?)
             }
         };
+        Self::with_basis(method, basis, cells)
+    }
+
+    /// Taichi's grid on [a, b] (`--knots padded`, `mpm::conventions`):
+    /// uniform quadratic B-splines centred on the nodes a + i·h,
+    /// i = −1 … cells + 1, from the uniform knots a + (j − 5/2)h,
+    /// j = 0 … cells + 5. The basis is a partition of unity on
+    /// [a − h/2, b + h/2], its cells + 1 spans are offset by half a cell, and
+    /// the functions of nodes −1, 0, 1 (and cells − 1 … cells + 1) reach
+    /// past the walls.
+    pub fn padded_quadratic(a: f64, b: f64, cells: usize) -> Result<Self> {
+        if cells == 0 || !(a.is_finite() && b.is_finite() && b > a) {
+            return Err(Error::InvalidArgument(format!(
+                "a padded grid needs a < b and at least one cell, got [{a}, {b}], {cells} cells"
+            )));
+        }
+        let h = (b - a) / cells as f64;
+        let knots = (0..cells + 6).map(|j| a + (j as f64 - 2.5) * h).collect();
+        let basis = GridBasis::BSpline(KnotVector::new(knots, 2)?);
+        Self::with_basis(Method::Bsmpm { degree: 2 }, basis, cells + 1)
+    }
+
+    /// The grid of a basis with `cells` spans.
+    fn with_basis(method: Method, basis: GridBasis, cells: usize) -> Result<Self> {
         let mut grid = Self {
             method,
             basis,

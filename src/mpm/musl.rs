@@ -397,7 +397,9 @@ impl Simulation {
         let velocity = &mut self.particles.velocity;
         match self.settings.conventions.transfer {
             Transfer::Flip => ws.stencils.add_interpolated(dt, &ws.acceleration, velocity),
-            Transfer::Pic => {
+            // APIC is refused in 1D (`check_conventions`); its particle
+            // velocity is PIC's.
+            Transfer::Pic | Transfer::Apic => {
                 for (k, vp) in velocity.iter_mut().enumerate() {
                     *vp = ws.stencils.interpolate(k, &ws.updated_velocity);
                 }

@@ -17,6 +17,7 @@
 
 use crate::basis::Stencils;
 use crate::error::{Error, Result};
+use crate::mpm::conventions::Knots;
 use crate::mpm::grid::{Grid, Method};
 use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
@@ -48,6 +49,7 @@ impl Basis2d {
 #[derive(Debug)]
 pub struct Grid2d {
     basis: Basis2d,
+    knots: Knots,
     axis: Grid,
     length: f64,
     cells: usize,
@@ -63,12 +65,28 @@ pub struct Grid2d {
 impl Grid2d {
     /// The grid of `cells` × `cells` equal cells on [0, L]².
     pub fn new(basis: Basis2d, length: f64, cells: usize) -> Result<Self> {
+        Self::with_knots(basis, length, cells, Knots::Open)
+    }
+
+    /// The grid with `--knots` (`mpm::conventions`): open knot vectors, or
+    /// Taichi's padded uniform quadratic B-splines
+    /// ([`Grid::padded_quadratic`], quadratic B-splines only).
+    pub fn with_knots(basis: Basis2d, length: f64, cells: usize, knots: Knots) -> Result<Self> {
         if !(length.is_finite() && length > 0.0) || cells == 0 {
             return Err(Error::InvalidArgument(format!(
                 "a 2D grid needs L > 0 and at least one cell, got L = {length}, {cells} cells"
             )));
         }
-        let axis = Grid::new(basis.method_1d(), 0.0, length, cells)?;
+        let axis = match (knots, basis) {
+            (Knots::Open, _) => Grid::new(basis.method_1d(), 0.0, length, cells)?,
+            (Knots::Padded, Basis2d::BSpline { degree: 2 }) => {
+                Grid::padded_quadratic(0.0, length, cells)?
+            }
+            (Knots::Padded, _) => return Err(Error::InvalidArgument(
+                "--knots padded is Taichi's quadratic B-spline grid: use --method bsmpm --degree 2"
+                    .into(),
+            )),
+        };
         let rule = GaussLegendre::new(2)?;
         let gauss_abscissae: Vec<f64> = axis
             .cells()
@@ -84,6 +102,7 @@ impl Grid2d {
         let h = length / cells as f64;
         Ok(Self {
             basis,
+            knots,
             axis,
             length,
             cells,
@@ -129,17 +148,40 @@ impl Grid2d {
     /// coefficient sits when it interpolates a linear function). Only
     /// `--body-force nodes` evaluates anything there.
     pub fn node_positions(&self) -> Vec<[f64; 2]> {
+        let along = self.node_positions_along();
+        let n = along.len();
+        (0..n * n).map(|i| [along[i % n], along[i / n]]).collect()
+    }
+
+    /// The node positions along one axis ([`Grid2d::node_positions`]); with
+    /// padded knots the centres (i − 1)·h of the node-centred splines.
+    pub fn node_positions_along(&self) -> Vec<f64> {
         let (h, n) = (self.cell_size(), self.nodes_per_side());
-        let along: Vec<f64> = match self.basis {
-            Basis2d::Bilinear => (0..n).map(|i| i as f64 * h).collect(),
-            Basis2d::BSpline { degree } => {
+        match (self.knots, self.basis) {
+            (Knots::Padded, _) => (0..n).map(|i| (i as f64 - 1.0) * h).collect(),
+            (_, Basis2d::Bilinear) => (0..n).map(|i| i as f64 * h).collect(),
+            (_, Basis2d::BSpline { degree }) => {
                 let knot = |j: usize| (j.saturating_sub(degree) as f64 * h).min(self.length);
                 (0..n)
                     .map(|i| (i + 1..=i + degree).map(knot).sum::<f64>() / degree as f64)
                     .collect()
             }
-        };
-        (0..n * n).map(|i| [along[i % n], along[i / n]]).collect()
+        }
+    }
+
+    /// The knots of the grid.
+    pub fn knots(&self) -> Knots {
+        self.knots
+    }
+
+    /// Node rows at each wall that carry its condition: 1 with open knots
+    /// (the only functions non-zero on the wall), 2 with padded ones (the
+    /// wall node and the one beyond it, as Taichi does).
+    pub fn wall_rows(&self) -> usize {
+        match self.knots {
+            Knots::Open => 1,
+            Knots::Padded => 2,
+        }
     }
 
     /// n_x · n_y.

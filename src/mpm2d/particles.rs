@@ -37,6 +37,9 @@ pub struct Particles2d {
     pub density: Vec<f64>,
     /// Masses m_p = ρ_p⁰ V_p⁰ (constant).
     pub mass: Vec<f64>,
+    /// APIC's affine velocity C_p (`--transfer apic`; Jiang et al. 2015),
+    /// zero at the start and untouched by every other transfer.
+    pub affine: Vec<Matrix2<f64>>,
 }
 
 impl Particles2d {
@@ -91,6 +94,7 @@ impl Particles2d {
             volume0: volume.clone(),
             volume,
             density: vec![density; n],
+            affine: vec![Matrix2::zeros(); n],
         })
     }
 

@@ -39,7 +39,9 @@ use crate::mpm::conventions::{Conventions, Positions, Transfer};
 
 mod other_codes;
 use nalgebra::Matrix2;
-pub use other_codes::move_particles;
+pub use other_codes::{
+    map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
+};
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
 /// outside [0, L]² is `Error::ParticleLeftGrid`.
@@ -307,14 +309,19 @@ pub(super) fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Con
 /// of the first and last column of nodes and the y components of the first
 /// and last row vanish. With open knot vectors (and P1) those are the only
 /// functions non-zero on the walls, so v·n = 0 along each wall.
-fn wall_conditions(n: usize, field: &mut [[f64; 2]]) {
-    for j in 0..n {
-        field[j * n][0] = 0.0;
-        field[j * n + n - 1][0] = 0.0;
-    }
-    for i in 0..n {
-        field[i][1] = 0.0;
-        field[(n - 1) * n + i][1] = 0.0;
+///
+/// With padded knots (`--knots padded`) the two outer rows at each wall
+/// carry the condition ([`Grid2d::wall_rows`]), as Taichi's step does.
+fn wall_conditions(n: usize, rows: usize, field: &mut [[f64; 2]]) {
+    for r in 0..rows {
+        for j in 0..n {
+            field[j * n + r][0] = 0.0;
+            field[j * n + n - 1 - r][0] = 0.0;
+        }
+        for i in 0..n {
+            field[r * n + i][1] = 0.0;
+            field[(n - 1 - r) * n + i][1] = 0.0;
+        }
     }
 }
 
@@ -324,7 +331,7 @@ fn wall_conditions(n: usize, field: &mut [[f64; 2]]) {
 /// (mv)_i^{t+1}/m_i, the velocity Eq. (30) moves the particles with. The
 /// phase-1 buffers `force` and `momentum` keep f_i and (mv)_i^t.
 pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
-    let n = grid.nodes_per_side();
+    let (n, rows) = (grid.nodes_per_side(), grid.wall_rows());
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
         let (f, mv) = (ws.force[i], ws.momentum[i]);
@@ -340,9 +347,9 @@ pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
     }
     // A wall component of f and (mv)^t is zero, and so is every value
     // computed from it: zeroing the results is the same, bit for bit.
-    wall_conditions(n, &mut ws.momentum_next);
-    wall_conditions(n, &mut ws.acceleration);
-    wall_conditions(n, &mut ws.velocity_next);
+    wall_conditions(n, rows, &mut ws.momentum_next);
+    wall_conditions(n, rows, &mut ws.acceleration);
+    wall_conditions(n, rows, &mut ws.velocity_next);
 }
 
 /// Phase 3, MLS paper Eqs. (29)–(30): v_p += Δt Σ_i N_i a_i and
@@ -447,7 +454,7 @@ pub fn end_of_step_velocity(
             [0.0; 2]
         };
     }
-    wall_conditions(n, &mut ws.velocity_end);
+    wall_conditions(n, grid.wall_rows(), &mut ws.velocity_end);
 }
 
 /// (mv)_i^L = Σ_p N_i m_p v_p^{t+1} (Eq. 31 with the particles as the
@@ -562,7 +569,7 @@ fn update_deformation_with<const W: usize>(
 }
 
 /// Names particle k in the error of its deformation update.
-fn particle_error(mut e: Error, k: usize) -> Error {
+pub(super) fn particle_error(mut e: Error, k: usize) -> Error {
     if let Error::InvertedDeformation { particle, .. } = &mut e {
         *particle = Some(k);
     }

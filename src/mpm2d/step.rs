@@ -45,20 +45,20 @@
 //! total-Lagrangian reference's `map_direct_reference` and
 //! `update_deformation_reference`.
 
-use super::grid::Grid2d;
+use super::grid::{Basis2d, Grid2d};
 use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::phases::{evaluate_basis_at_reference, record_conservation};
 use crate::error::{Error, Result};
-use crate::mpm::conventions::{BodyForceAt, Conventions, Positions, Scheme};
+use crate::mpm::conventions::{BodyForceAt, Conventions, Gradient, Positions, Scheme, Transfer};
 use crate::spline::bspline::SpanScratch;
 use serde::{Deserialize, Serialize};
 
 pub use super::mapping::{Mapping2d, MappingInfo};
 pub use super::phases::{
-    end_of_step_velocity, evaluate_basis, map_direct, map_direct_reference, map_reconstructed,
-    move_particles, nodal_update, update_deformation, update_deformation_reference,
-    update_particles,
+    end_of_step_velocity, evaluate_basis, map_direct, map_direct_apic, map_direct_reference,
+    map_reconstructed, move_particles, nodal_update, update_deformation, update_deformation_affine,
+    update_deformation_reference, update_particles, update_particles_apic,
 };
 pub use super::workspace::{Conservation2d, Workspace2d};
 
@@ -192,6 +192,11 @@ impl Simulation2d {
             ));
         }
         check_conventions(&settings)?;
+        if settings.conventions.transfer == Transfer::Apic && grid.basis() == Basis2d::Bilinear {
+            return Err(Error::InvalidArgument(
+                "--transfer apic needs D_p = Σ N_i (x_i − x_p)² > 0, which bilinear functions lose at the nodes; use --method bsmpm".into(),
+            ));
+        }
         let reconstruction =
             settings
                 .mapping
@@ -205,6 +210,10 @@ impl Simulation2d {
             along_y: grid.axis().stencils(n),
             scratch: SpanScratch::default(),
             body_force: vec![[0.0; 2]; n],
+            node_along: match settings.conventions.transfer {
+                Transfer::Apic => grid.node_positions_along(),
+                _ => Vec::new(),
+            },
             nodal_body_force: match settings.conventions.body_force {
                 BodyForceAt::Nodes => vec![[0.0; 2]; nodes],
                 BodyForceAt::Particles => Vec::new(),
@@ -274,7 +283,11 @@ impl Simulation2d {
                     b.fill(self.time, &p.x0, &mut ws.body_force);
                 }
             }
+            let conventions = self.settings.conventions;
             match self.settings.mapping {
+                Mapping2d::Direct if conventions.transfer == Transfer::Apic => {
+                    map_direct_apic(grid, p, ws, conventions.gradient)
+                }
                 Mapping2d::Direct if total => map_direct_reference(grid, p, ws).map_err(failed)?,
                 Mapping2d::Direct => map_direct(grid, p, ws),
                 // Every other mapping is a registered reconstruction.
@@ -294,13 +307,12 @@ impl Simulation2d {
         nodal_update(&self.grid, &mut self.workspace, dt);
         observer.observe(StepPoint2d::NodalUpdate, self)?;
         let conventions = self.settings.conventions;
-        update_particles(
-            &self.grid,
-            &mut self.particles,
-            &self.workspace,
-            conventions,
-            dt,
-        );
+        let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
+        if conventions.transfer == Transfer::Apic {
+            update_particles_apic(grid, p, ws, dt);
+        } else {
+            update_particles(grid, p, ws, conventions, dt);
+        }
         observer.observe(StepPoint2d::ParticleUpdate, self)?;
         let mapping = self.settings.mapping;
         match conventions.scheme {
@@ -319,6 +331,8 @@ impl Simulation2d {
         let material = &self.settings.material;
         if total {
             update_deformation_reference(grid, p, ws, material, dt)
+        } else if conventions.gradient == Gradient::Affine {
+            update_deformation_affine(p, material, dt)
         } else {
             update_deformation(grid, p, ws, material, dt)
         }
@@ -347,6 +361,11 @@ fn check_conventions(settings: &Settings2d) -> Result<()> {
     if c.scheme == Scheme::Usf {
         return Err(Error::InvalidArgument(
             "--scheme usf is 1D only; the 2D step has musl and usl".into(),
+        ));
+    }
+    if c.is_two_d_only() && settings.mapping != Mapping2d::Direct {
+        return Err(Error::InvalidArgument(
+            "--transfer apic, --gradient affine and --knots padded run with the direct mapping (--method bsmpm)".into(),
         ));
     }
     if settings.formulation == Formulation::TotalLagrangian && c != Conventions::MLS_PAPER {

@@ -36,6 +36,9 @@ pub struct Workspace2d {
     /// `--body-force nodes`: b(X_i, t) per unit mass at every node (empty
     /// otherwise).
     pub nodal_body_force: Vec<[f64; 2]>,
+    /// `--transfer apic`: the node positions along one axis (x_i of
+    /// x_i − x_p; empty otherwise).
+    pub node_along: Vec<f64>,
     /// Lumped nodal masses m_i (Eq. 22).
     pub mass: Vec<f64>,
     /// Nodal momenta (mv)_i^t of phase 1 (Eq. 23).

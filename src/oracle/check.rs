@@ -262,14 +262,21 @@ pub fn check(
     let mut fields = BTreeMap::new();
     let mut compared_fields = Vec::new();
     let floor = derived_rounding(&theirs, setup.steps());
+    let stress = stress_floor(setup, &state.particles, &tolerance)?;
+    let least = |c: &str| {
+        let derived = theirs
+            .derived
+            .iter()
+            .any(|d| d.starts_with(&format!("{c} =")));
+        if derived {
+            floor
+        } else if c.starts_with("stress") {
+            stress
+        } else {
+            0.0
+        }
+    };
     for (field, columns) in field_columns(state.two_d) {
-        let derived = columns.iter().any(|c| {
-            theirs
-                .derived
-                .iter()
-                .any(|d| d.starts_with(&format!("{c} =")))
-        });
-        let least = if derived { floor } else { 0.0 };
         let Some(mut r) =
             compare_field(columns, &theirs, &state.particles, &perm, &tolerance, least)?
         else {
@@ -466,6 +473,14 @@ fn verdict(r: &CheckReport) -> String {
             ));
         }
     }
+    if let Some(f) = r.fields.get("stress") {
+        if f.atol_abs > r.tolerance.atol * f.scale {
+            lines.push(format!(
+                "stress: absolute tolerance {} = (λ + 2μ)·atol·max|F|, what F's tolerance becomes through the neo-Hookean law",
+                sci(f.atol_abs, 1)
+            ));
+        }
+    }
     if !r.derived_columns.is_empty() {
         let floor = r.fields.get("u").map_or(0.0, |f| f.atol_abs);
         lines.push(format!(
@@ -521,4 +536,24 @@ fn derived_rounding(theirs: &ParticleTable, steps: usize) -> f64 {
         .map(|v| scale_of(v.iter()))
         .fold(0.0, f64::max);
     4.0 * (steps.max(1) as f64).sqrt() * f64::EPSILON * largest
+}
+
+/// The least absolute tolerance of the 2D stress: (λ + 2μ) times F's
+/// absolute tolerance, atol·max|F|. σ is a function of F whose slope is
+/// at most about λ + 2μ near F = I, so two codes whose F agree within F's
+/// tolerance may differ in σ by this much through rounding alone
+/// (Taichi's MLS-MPM at 64 cells: F within 3e-14, σ within 5.4e-7 Pa;
+/// docs/conventions.md, "Conventions of other codes"). 0 in 1D, where
+/// the stress is not computed from a compared F.
+fn stress_floor(setup: &Setup, ours: &ParticleTable, t: &Tolerance) -> Result<f64> {
+    let Setup::TwoD(s) = setup else {
+        return Ok(0.0);
+    };
+    let m = s.scene.material()?;
+    let largest_f = ["F_xx", "F_xy", "F_yx", "F_yy"]
+        .iter()
+        .filter_map(|c| ours.column(c))
+        .map(|v| scale_of(v.iter()))
+        .fold(0.0, f64::max);
+    Ok((m.lambda + 2.0 * m.mu) * t.atol * largest_f)
 }

@@ -141,16 +141,18 @@ pub struct FieldReport {
 
 /// Compares one field's `columns` that both tables have: row `r` of
 /// `theirs` against particle `perm[r]` of `ours`. `None` if neither
-/// gives any of them. `floor` is the least absolute tolerance: 0, or for
-/// a column derived from the other code's (`u = x − x0`) the rounding it
-/// carries (`oracle::check`).
+/// gives any of them. `floor(column)` is a column's least absolute
+/// tolerance: 0, or for a column derived from the other code's positions
+/// (`u = x − x0`) the rounding it carries, or for the 2D stress what F's
+/// tolerance becomes through the material (`oracle::check`). The report's
+/// `atol_abs` is the largest over the field's columns.
 pub fn compare_field(
     columns: &[&str],
     theirs: &ParticleTable,
     ours: &ParticleTable,
     perm: &[usize],
     t: &Tolerance,
-    floor: f64,
+    floor: impl Fn(&str) -> f64,
 ) -> Result<Option<FieldReport>> {
     let present: Vec<(&str, &[f64], &[f64])> = columns
         .iter()
@@ -168,7 +170,11 @@ pub fn compare_field(
         ))
     };
     let scale = scale_of(present.iter().flat_map(|(_, _, h)| h.iter()));
-    let atol_abs = (t.atol * scale).max(floor);
+    let atol_of = |c: &str| (t.atol * scale).max(floor(c));
+    let atol_abs = present
+        .iter()
+        .map(|(c, _, _)| atol_of(c))
+        .fold(t.atol * scale, f64::max);
     let mut r = FieldReport {
         columns: present.iter().map(|(c, _, _)| c.to_string()).collect(),
         scale,
@@ -191,6 +197,7 @@ pub fn compare_field(
         if y.len() != perm.len() {
             return Err(mismatch(c));
         }
+        let atol_abs = atol_of(c);
         for (&a, &k) in y.iter().zip(perm) {
             let b = *h.get(k).ok_or_else(|| mismatch(c))?;
             let d = saturate((a - b).abs());

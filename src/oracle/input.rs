@@ -258,7 +258,8 @@ fn rename(parsed: ParsedTable, map: &ColumnMap, two_d: bool) -> Result<ParticleT
     Ok(out)
 }
 
-/// u = x − x0 where the file has positions but no displacement, so that a
+/// u = x − x0 where the file has positions but no displacement (or a
+/// displacement that is exactly x − x0), so that a
 /// code that writes only x (Karamelo's dumps) is compared in u, whose
 /// scale is the motion's, not the domain's: x's tolerance, scaled by
 /// max |x| ≈ L, cannot see a difference of 1e-9 of the displacement. The
@@ -271,15 +272,23 @@ fn derive_displacement(t: &mut ParticleTable, two_d: bool) -> Result<()> {
         &[("u", "x", "x0")]
     };
     for (u, x, x0) in axes {
-        if t.column(u).is_some() {
-            continue;
-        }
         let (Some(xs), Some(x0s)) = (t.column(x), t.column(x0)) else {
             continue;
         };
         let values: Vec<f64> = xs.iter().zip(x0s).map(|(a, b)| a - b).collect();
-        t.columns.push((u.to_string(), values));
-        t.derived.push(format!("{u} = {x} − {x0}"));
+        match t.column(u) {
+            // A file's u that is its x − x0 bit for bit carries the same
+            // rounding: it gets the same floor (Taichi's u, issue #36).
+            Some(given) if given == values.as_slice() => {
+                t.derived
+                    .push(format!("{u} = {x} − {x0} (your {u}, bit for bit)"));
+            }
+            Some(_) => {}
+            None => {
+                t.columns.push((u.to_string(), values));
+                t.derived.push(format!("{u} = {x} − {x0}"));
+            }
+        }
     }
     Ok(())
 }

@@ -453,7 +453,7 @@ impl AlignedVibration {
         conventions: Conventions,
     ) -> Result<Simulation2d> {
         let (basis, mapping) = method.parts();
-        let grid = Grid2d::new(basis, self.length, cells)?;
+        let grid = Grid2d::with_knots(basis, self.length, cells, conventions.knots)?;
         let particles =
             Particles2d::cell_centred(self.length, cells, per_side, self.density, |x| {
                 self.velocity(x, 0.0)

@@ -74,6 +74,12 @@ impl Simulation {
 pub(super) fn check_conventions(settings: &Settings) -> Result<()> {
     let c = settings.conventions;
     c.validate()?;
+    if c.is_two_d_only() {
+        return Err(Error::InvalidArgument(format!(
+            "{} is 2D only: the 1D step has no APIC, affine gradient or padded knots",
+            c.flags(1).join(" ")
+        )));
+    }
     let plain = settings.force_mapping == Mapping::Direct
         && settings.velocity_mapping == Mapping::Direct
         && settings.mass == MassMatrix::Lumped

@@ -6,13 +6,26 @@
 //! with v^L (book Eq. 4.11's rule in 2D). The paper's own phase 3 is
 //! [`super::update_particles`].
 //!
-//! Items: [`move_particles`].
+//! With `--transfer apic` (Jiang et al. 2015) the particles carry C_p:
+//! phase 1 maps m_p (v_p + C_p (x_i − x_p)), phase 3 sets v_p = Σ N_i v_i
+//! and C_p = Σ N_i v_i ⊗ (x_i − x_p) D_p⁻¹ with
+//! D_p = Σ_i N_i (x_i − x_p) ⊗ (x_i − x_p), diagonal for a tensor-product
+//! basis (h²/4 for uniform quadratic B-splines); with `--gradient affine`
+//! (MLS-MPM, Hu et al. 2018) the internal force is
+//! −Σ_p V_p σ_p D_p⁻¹ (x_i − x_p) N_i and the velocity gradient is C_p.
+//!
+//! Items: [`move_particles`], [`map_direct_apic`], [`update_particles_apic`],
+//! [`update_deformation_affine`].
 
-use super::TensorStencil;
-use crate::mpm::conventions::{Conventions, Positions};
+use super::{particle_error, TensorStencil};
+use crate::basis::Stencils;
+use crate::error::{Error, Result};
+use crate::mpm::conventions::{Conventions, Gradient, Positions};
 use crate::mpm2d::grid::Grid2d;
+use crate::mpm2d::material::NeoHookean;
 use crate::mpm2d::particles::Particles2d;
 use crate::mpm2d::workspace::Workspace2d;
+use nalgebra::Matrix2;
 
 /// Phase 3 with `--transfer pic|flip:α` or `--positions projected`:
 /// v_p = α (v_p + Δt Σ_i N_i a_i) + (1 − α) Σ_i N_i v_i^{t+1}, and x_p as
@@ -63,4 +76,122 @@ pub fn move_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: 
         p.y[k] += dt * v[1];
         p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
     }
+}
+
+/// D along one axis for point k of `s`: Σ_a N_a (x_a − x)², the diagonal
+/// entry of D_p (the other axis' functions sum to one).
+fn inertia_along(s: &Stencils, k: usize, nodes: &[f64], x: f64) -> f64 {
+    let first = s.first[k];
+    s.values_of(k)
+        .iter()
+        .zip(&nodes[first..])
+        .map(|(n, xa)| n * (xa - x) * (xa - x))
+        .sum()
+}
+
+/// (D_x⁻¹, D_y⁻¹) of particle k.
+fn inverse_inertia(ws: &Workspace2d, k: usize, x: f64, y: f64) -> [f64; 2] {
+    [
+        1.0 / inertia_along(&ws.along_x, k, &ws.node_along, x),
+        1.0 / inertia_along(&ws.along_y, k, &ws.node_along, y),
+    ]
+}
+
+/// Phase 1 with APIC: m_i = Σ_p N_i m_p, (mv)_i = Σ_p N_i m_p (v_p + C_p
+/// (x_i − x_p)), f_i = Σ_p N_i m_p b_p − V_p σ_p g_ip with g_ip = ∇N_i
+/// (`--gradient basis`) or D_p⁻¹ (x_i − x_p) N_i (`affine`, MLS-MPM).
+pub fn map_direct_apic(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d, gradient: Gradient) {
+    let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
+    for m in ws.mass.iter_mut() {
+        *m = 0.0;
+    }
+    ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
+    ws.force.iter_mut().for_each(|f| *f = [0.0; 2]);
+    for k in 0..p.len() {
+        let (x, y) = (p.x[k], p.y[k]);
+        let m = p.mass[k];
+        let (v, c, b) = (p.velocity[k], p.affine[k], ws.body_force[k]);
+        let s = p.stress[k] * p.volume[k];
+        let d_inv = inverse_inertia(ws, k, x, y);
+        let (sx, sy) = (&ws.along_x, &ws.along_y);
+        let stencil = TensorStencil::of(sx, k, sy, k, w, n);
+        let node = &ws.node_along;
+        stencil.for_each(|i, nn, dn| {
+            let d = [node[i % n] - x, node[i / n] - y];
+            let g = match gradient {
+                Gradient::Basis => dn,
+                Gradient::Affine => [d_inv[0] * d[0] * nn, d_inv[1] * d[1] * nn],
+            };
+            let cd = [
+                c[(0, 0)] * d[0] + c[(0, 1)] * d[1],
+                c[(1, 0)] * d[0] + c[(1, 1)] * d[1],
+            ];
+            ws.mass[i] += nn * m;
+            ws.momentum[i][0] += nn * m * (v[0] + cd[0]);
+            ws.momentum[i][1] += nn * m * (v[1] + cd[1]);
+            ws.force[i][0] += nn * m * b[0] - (s[(0, 0)] * g[0] + s[(0, 1)] * g[1]);
+            ws.force[i][1] += nn * m * b[1] - (s[(1, 0)] * g[0] + s[(1, 1)] * g[1]);
+        });
+    }
+}
+
+/// Phase 3 with APIC: v_p = Σ N_i v_i^{t+1}, C_p = Σ N_i v_i^{t+1} ⊗
+/// (x_i − x_p) D_p⁻¹ (at x_p^t), then x_p += Δt v_p (Eq. 30).
+pub fn update_particles_apic(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+    let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
+    let (sx, sy, node) = (&ws.along_x, &ws.along_y, &ws.node_along);
+    for k in 0..p.len() {
+        let (x, y) = (p.x[k], p.y[k]);
+        let d_inv = inverse_inertia(ws, k, x, y);
+        let (mut v, mut b) = ([0.0; 2], [0.0; 4]);
+        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+            let vi = ws.velocity_next[i];
+            let d = [node[i % n] - x, node[i / n] - y];
+            v[0] += nn * vi[0];
+            v[1] += nn * vi[1];
+            b[0] += nn * vi[0] * d[0];
+            b[1] += nn * vi[0] * d[1];
+            b[2] += nn * vi[1] * d[0];
+            b[3] += nn * vi[1] * d[1];
+        });
+        p.velocity[k] = v;
+        p.affine[k] = Matrix2::new(
+            b[0] * d_inv[0],
+            b[1] * d_inv[1],
+            b[2] * d_inv[0],
+            b[3] * d_inv[1],
+        );
+        p.x[k] += dt * v[0];
+        p.y[k] += dt * v[1];
+        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+    }
+}
+
+/// Eqs. (35)–(37) and (41) with the MLS-MPM velocity gradient
+/// (`--gradient affine`): F_p ← (I + Δt C_p) F_p, V_p = det F_p V_p⁰,
+/// ρ_p = m_p/V_p, σ_p neo-Hookean. det F ≤ 0 is
+/// `Error::InvertedDeformation` and a velocity that is not finite
+/// `Error::NonFiniteVelocity`, naming the particle.
+pub fn update_deformation_affine(
+    p: &mut Particles2d,
+    material: &NeoHookean,
+    dt: f64,
+) -> Result<()> {
+    for k in 0..p.len() {
+        let f = (Matrix2::identity() + p.affine[k] * dt) * p.deformation[k];
+        let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
+        p.deformation[k] = f;
+        p.volume[k] = j * p.volume0[k];
+        p.density[k] = p.mass[k] / p.volume[k];
+        p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
+        if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
+            return Err(Error::NonFiniteVelocity {
+                particle: k,
+                step: None,
+                time: None,
+                velocity: p.velocity[k],
+            });
+        }
+    }
+    Ok(())
 }

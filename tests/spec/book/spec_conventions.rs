@@ -63,7 +63,7 @@ fn with(scheme: Scheme, transfer: Transfer, positions: Positions) -> Conventions
         scheme,
         transfer,
         positions,
-        body_force: BodyForceAt::Particles,
+        ..Conventions::BOOK
     }
 }
 
@@ -233,7 +233,8 @@ fn every_flag_value_is_registered_once_with_help_citation_and_codes_and_parses_b
     );
     assert_eq!(Transfer::from_name("flip:1").unwrap(), Transfer::Flip);
     assert_eq!(Transfer::from_name("flip:0").unwrap(), Transfer::Pic);
-    for bad in ["flip:1.5", "flip:-0.1", "flip:x", "apic", "flip:"] {
+    assert_eq!(Transfer::from_name("apic").unwrap(), Transfer::Apic);
+    for bad in ["flip:1.5", "flip:-0.1", "flip:x", "mpm", "flip:"] {
         assert!(Transfer::from_name(bad).is_err(), "{bad}");
     }
     assert!(Scheme::from_name("mls").is_err());
@@ -393,4 +394,192 @@ fn the_axis_aligned_solution_has_one_half_wave_and_its_own_body_force() {
         SolutionForm::AxisAligned
     );
     assert!(SolutionForm::from_name("uintah").is_err());
+}
+
+/// One particle at (x, y) on Taichi's grid (`--knots padded`, quadratic
+/// B-splines, 4 cells on [0, 1]) with APIC and the affine gradient.
+fn taichi_particle(x: f64, y: f64, stress: nalgebra::Matrix2<f64>) -> Simulation2d {
+    let grid = Grid2d::with_knots(
+        Basis2d::BSpline { degree: 2 },
+        1.0,
+        4,
+        hompm::mpm::conventions::Knots::Padded,
+    )
+    .unwrap();
+    let mut p = Particles2d::new(vec![[x, y]], vec![0.01], 4.0, vec![[0.0; 2]]).unwrap();
+    p.stress[0] = stress;
+    let settings = Settings2d {
+        formulation: Formulation::UpdatedLagrangian,
+        mapping: Mapping2d::Direct,
+        material: NeoHookean::from_young_poisson(1.0, 0.3).unwrap(),
+        mls_support: 1.0,
+        conventions: taichi(),
+    };
+    Simulation2d::new(grid, p, settings, None).unwrap()
+}
+
+fn taichi() -> Conventions {
+    Conventions {
+        scheme: Scheme::Usl,
+        transfer: Transfer::Apic,
+        knots: hompm::mpm::conventions::Knots::Padded,
+        gradient: hompm::mpm::conventions::Gradient::Affine,
+        ..Conventions::MLS_PAPER
+    }
+}
+
+#[test]
+fn padded_knots_are_node_centred_quadratic_b_splines_with_one_node_beyond_each_wall() {
+    let h = 0.25;
+    let sim = taichi_particle(0.3 * h, 0.6, nalgebra::Matrix2::zeros());
+    let grid = &sim.grid;
+    assert_eq!(grid.nodes_per_side(), 4 + 3);
+    assert_eq!(grid.wall_rows(), 2);
+    let along = grid.node_positions_along();
+    assert_all(&along, &[-0.25, 0.0, 0.25, 0.5, 0.75, 1.0, 1.25]);
+    // Taichi's weights: base = floor(x/h − ½) = −1, fx = x/h − base = 1.3:
+    // (½(3/2 − fx)², ¾ − (fx − 1)², ½(fx − ½)²) on nodes −1, 0, 1.
+    let fx: f64 = 1.3;
+    let s = &sim.workspace.along_x;
+    assert_eq!(s.first[0], 0, "node −1 is the first");
+    assert_all(
+        s.values_of(0),
+        &[
+            0.5 * (1.5 - fx).powi(2),
+            0.75 - (fx - 1.0).powi(2),
+            0.5 * (fx - 0.5).powi(2),
+        ],
+    );
+    // Only quadratic B-splines are padded.
+    assert!(Grid2d::with_knots(
+        Basis2d::BSpline { degree: 3 },
+        1.0,
+        4,
+        hompm::mpm::conventions::Knots::Padded
+    )
+    .is_err());
+    assert!(Grid2d::with_knots(
+        Basis2d::Bilinear,
+        1.0,
+        4,
+        hompm::mpm::conventions::Knots::Padded
+    )
+    .is_err());
+}
+
+#[test]
+fn apic_recovers_an_affine_grid_velocity_and_its_gradient_exactly() {
+    // v_i = a + G x_i on every node: v_p = a + G x_p and C_p = G
+    // (Jiang et al. 2015, quadratic B-splines).
+    let (a, g) = ([0.3, -0.2], nalgebra::Matrix2::new(1.5, -0.7, 0.4, 2.0));
+    let mut sim = taichi_particle(0.37, 0.61, nalgebra::Matrix2::zeros());
+    let along = sim.grid.node_positions_along();
+    let n = along.len();
+    for i in 0..n * n {
+        let x = [along[i % n], along[i / n]];
+        sim.workspace.velocity_next[i] = [
+            a[0] + g[(0, 0)] * x[0] + g[(0, 1)] * x[1],
+            a[1] + g[(1, 0)] * x[0] + g[(1, 1)] * x[1],
+        ];
+    }
+    let (grid, p, ws) = (&sim.grid, &mut sim.particles, &sim.workspace);
+    hompm::mpm2d::step::update_particles_apic(grid, p, ws, 0.0);
+    let v = [
+        a[0] + g[(0, 0)] * 0.37 + g[(0, 1)] * 0.61,
+        a[1] + g[(1, 0)] * 0.37 + g[(1, 1)] * 0.61,
+    ];
+    assert_all(&p.velocity[0], &v);
+    assert_relative_eq!(p.affine[0], g, max_relative = 1e-12);
+}
+
+#[test]
+fn the_affine_internal_force_balances_and_its_first_moment_is_minus_v_sigma() {
+    // f_i = −V σ D⁻¹ (x_i − x_p) N_i with D = Σ N (x_i − x_p)²: Σ_i f_i = 0
+    // and Σ_i f_i ⊗ (x_i − x_p) = −V σ (MLS-MPM, Hu et al. 2018).
+    let sigma = nalgebra::Matrix2::new(3.0, 0.5, 0.5, -2.0);
+    let (x, y) = (0.41, 0.77);
+    let mut sim = taichi_particle(x, y, sigma);
+    let (grid, p, ws) = (&sim.grid, &sim.particles, &mut sim.workspace);
+    hompm::mpm2d::step::map_direct_apic(grid, p, ws, hompm::mpm::conventions::Gradient::Affine);
+    let along = grid.node_positions_along();
+    let n = along.len();
+    let (mut total, mut moment) = ([0.0; 2], nalgebra::Matrix2::zeros());
+    for (i, f) in ws.force.iter().enumerate() {
+        let d = [along[i % n] - x, along[i / n] - y];
+        total[0] += f[0];
+        total[1] += f[1];
+        for r in 0..2 {
+            for c in 0..2 {
+                moment[(r, c)] += f[r] * d[c];
+            }
+        }
+    }
+    assert!(
+        total[0].abs() < 1e-14 && total[1].abs() < 1e-14,
+        "{total:?}"
+    );
+    assert_relative_eq!(moment, -sigma * p.volume[0], max_relative = 1e-12);
+    // With the basis gradient the same moment holds (Σ ∇N_i ⊗ x_i = I),
+    // but the nodal forces differ.
+    let basis = ws.force.clone();
+    let (grid, p, ws) = (&sim.grid, &sim.particles, &mut sim.workspace);
+    hompm::mpm2d::step::map_direct_apic(grid, p, ws, hompm::mpm::conventions::Gradient::Basis);
+    assert!(basis
+        .iter()
+        .zip(&ws.force)
+        .any(|(a, b)| (a[0] - b[0]).abs() > 1e-3));
+}
+
+#[test]
+fn taichis_conventions_are_refused_where_they_mean_nothing() {
+    let c = taichi();
+    assert!(c.validate().is_ok());
+    assert!(Conventions {
+        scheme: Scheme::Musl,
+        ..c
+    }
+    .validate()
+    .is_err());
+    assert!(Conventions {
+        transfer: Transfer::Flip,
+        ..c
+    }
+    .validate()
+    .is_err());
+    assert!(c.is_two_d_only());
+    // The 1D step has none of them.
+    let grid = Grid::new(Method::Mpm, 0.0, 2.0, 2).unwrap();
+    let p = Particles::new(vec![0.5], vec![1.0], vec![1.0], vec![0.0], vec![0.0]).unwrap();
+    let settings = Settings {
+        force_mapping: Mapping::Direct,
+        velocity_mapping: Mapping::Direct,
+        mass: MassMatrix::Lumped,
+        constitutive: Constitutive::SmallStrain,
+        young: 1.0,
+        gravity: 0.0,
+        gravity_ramp: None,
+        dirichlet: vec![],
+        consistent_acceleration: false,
+        tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
+        conventions: c,
+    };
+    let e = Simulation::new(grid, p, settings)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("2D only"), "{e}");
+    // APIC needs D_p > 0, which bilinear functions lose at the nodes.
+    let grid = Grid2d::new(Basis2d::Bilinear, 1.0, 2).unwrap();
+    let p = Particles2d::new(vec![[0.25, 0.25]], vec![0.5], 4.0, vec![[0.0; 2]]).unwrap();
+    let settings = Settings2d {
+        formulation: Formulation::UpdatedLagrangian,
+        mapping: Mapping2d::Direct,
+        material: NeoHookean::from_young_poisson(1.0, 0.3).unwrap(),
+        mls_support: 1.0,
+        conventions: Conventions {
+            knots: hompm::mpm::conventions::Knots::Open,
+            ..c
+        },
+    };
+    assert!(Simulation2d::new(grid, p, settings, None).is_err());
 }

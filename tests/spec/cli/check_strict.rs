@@ -5,6 +5,7 @@
 //! by each field's size, stays finite for huge finite inputs, and refuses
 //! a convergence study it cannot judge.
 
+use approx::assert_relative_eq;
 use hompm::Error;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -336,8 +337,14 @@ fn a_file_that_gives_none_of_u_v_stress_or_f_is_refused_naming_what_was_ignored(
     // One physical field is enough, and the verdict names only what it saw.
     let only_v = particles_csv(SETUP_1D).replacen("x0,x,u,v,stress,", "x0,X,ux,v,s11,", 1);
     let out = check(SETUP_1D, "onlyv.csv", &only_v, &[]).agrees();
-    assert!(out.contains("bit for bit in v, x0, volume, density"), "{out}");
-    assert!(out.contains("not compared: your columns X, ux, s11"), "{out}");
+    assert!(
+        out.contains("bit for bit in v, x0, volume, density"),
+        "{out}"
+    );
+    assert!(
+        out.contains("not compared: your columns X, ux, s11"),
+        "{out}"
+    );
 }
 
 #[test]
@@ -518,9 +525,20 @@ fn the_absolute_tolerance_is_scaled_by_the_field_s_size() {
     let r: Value = serde_json::from_str(&out).unwrap();
     let stress = &r["fields"]["stress"];
     assert!(stress["scale"].as_f64().unwrap() > 1e3, "{stress}");
-    assert_eq!(
+    // In 2D the stress's absolute tolerance is at least what F's becomes
+    // through the neo-Hookean law, (λ + 2μ)·1e-12·max|F| (E = 1e7,
+    // ν = 0.3: λ + 2μ = 1.3462e7).
+    let f_scale = r["fields"]["F"]["scale"].as_f64().unwrap();
+    let lambda_2mu = 1e7 * 0.3 / (1.3 * 0.4) + 1e7 / 1.3;
+    assert_relative_eq!(
         stress["atol_abs"].as_f64().unwrap(),
-        1e-12 * stress["scale"].as_f64().unwrap()
+        (1e-12 * stress["scale"].as_f64().unwrap()).max(lambda_2mu * 1e-12 * f_scale),
+        max_relative = 1e-12
+    );
+    let v = &r["fields"]["v"];
+    assert_eq!(
+        v["atol_abs"].as_f64().unwrap(),
+        1e-12 * v["scale"].as_f64().unwrap()
     );
     let mut d = doc("run", SETUP_2D);
     let v = d["particles"]["u"][4][0].as_f64().unwrap();

@@ -232,3 +232,58 @@ fn the_axis_aligned_solution_runs_in_2d_and_its_exact_fields_follow_it() {
     let paper = exact("mls-paper").to_string();
     assert_ne!(aligned, paper);
 }
+
+#[test]
+fn taichis_conventions_run_in_2d_and_a_file_of_them_checks_against_the_same_flags_only() {
+    let flags = [
+        "aligned-vibration",
+        "--method",
+        "bsmpm",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "10",
+        "--transfer",
+        "apic",
+        "--gradient",
+        "affine",
+        "--knots",
+        "padded",
+    ];
+    let mut args = vec!["run"];
+    args.extend_from_slice(&flags);
+    args.push("--json");
+    let text = hompm::cli::run(&args).unwrap().stdout;
+    let doc: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(doc["conventions"]["scheme"], "usl", "apic implies usl");
+    assert_eq!(doc["conventions"]["knots"], "padded");
+    let file = scratch("taichi.json");
+    std::fs::write(&file, &text).unwrap();
+    let f = file.to_str().unwrap().to_string();
+    let mut args = vec!["check"];
+    args.extend_from_slice(&flags);
+    args.extend_from_slice(&["--input", &f]);
+    let out = hompm::cli::run(&args).unwrap();
+    assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
+    assert!(out.stdout.contains("--gradient affine"), "{}", out.stdout);
+    let e = hompm::cli::run([
+        "check",
+        "aligned-vibration",
+        "--method",
+        "bsmpm",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "10",
+        "--input",
+        &f,
+    ])
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("the file says"), "{e}");
+}
