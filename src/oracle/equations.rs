@@ -22,7 +22,9 @@ pub enum IndexKind {
     Particle,
     /// The solver's [iterations, final relative residual].
     Solver,
-    /// A 2D grid node i = ix + (cells + p)·iy, 0-based.
+    /// A 2D grid node i = ix + n·iy, 0-based, with n = cells + p nodes per
+    /// side; with `--knots padded` n = cells + 3 and ix = 0 is the node at
+    /// x = −h beyond the wall (ix = i_x + 1 of Taichi's node i_x·h).
     Node,
     /// A 2D Gauss point g = gx + 2·cells·gy, 0-based.
     GaussPoint,
@@ -290,7 +292,7 @@ pub const EQUATIONS_1D: [Equation; 22] = [
 /// The traced equations of the 2D step (MLS paper Eqs. 18–41), in the
 /// order the step computes them. Vectors and tensors are flattened per
 /// node or particle ([`Equation::components`]).
-pub const EQUATIONS_2D: [Equation; 15] = [
+pub const EQUATIONS_2D: [Equation; 17] = [
     eq2(
         "mls-18-21",
         "[ρ, ρv, ρb, σ]_g",
@@ -312,6 +314,14 @@ pub const EQUATIONS_2D: [Equation; 15] = [
         "(mv)_i",
         "the nodal momentum",
         "MLS paper Eq. (23)",
+        IndexKind::Node,
+        2,
+    ),
+    eq2(
+        "nodal-body-force",
+        "b(X_i, t)",
+        "the body force per unit mass at the nodes (--body-force nodes)",
+        "docs/conventions.md, \"Conventions of other codes\"",
         IndexKind::Node,
         2,
     ),
@@ -362,6 +372,14 @@ pub const EQUATIONS_2D: [Equation; 15] = [
         "MLS paper Eq. (30)",
         IndexKind::Particle,
         2,
+    ),
+    eq2(
+        "apic-c",
+        "C_p",
+        "APIC's affine velocity (--transfer apic)",
+        "Jiang et al. (2015); docs/conventions.md, \"Conventions of other codes\"",
+        IndexKind::Particle,
+        4,
     ),
     eq2(
         "mls-32",

@@ -317,6 +317,9 @@ impl StepObserver2d for TraceObserver2d {
                         ws.gauss_values.iter().flatten().copied().collect(),
                     );
                 }
+                if !ws.nodal_body_force.is_empty() {
+                    r.put("nodal-body-force", flat2(&ws.nodal_body_force));
+                }
                 r.put("mls-22", ws.mass.clone());
                 r.put("mls-23", flat2(&ws.momentum));
                 r.put("mls-26", flat2(&ws.force));
@@ -330,6 +333,9 @@ impl StepObserver2d for TraceObserver2d {
                 let x: Vec<f64> = p.x.iter().zip(&p.y).flat_map(|(x, y)| [*x, *y]).collect();
                 r.put("mls-30", x);
                 r.put("mls-30-u", flat2(&p.displacement));
+                if sim.settings.conventions.transfer == crate::mpm::conventions::Transfer::Apic {
+                    r.put("apic-c", flat4(&p.affine));
+                }
             }
             StepPoint2d::EndOfStepVelocity => {
                 r.put("mls-32", flat2(&ws.momentum_end));

@@ -287,3 +287,35 @@ fn taichis_conventions_run_in_2d_and_a_file_of_them_checks_against_the_same_flag
     .to_string();
     assert!(e.contains("the file says"), "{e}");
 }
+
+#[test]
+fn a_2d_trace_carries_c_p_with_apic_and_the_nodal_body_force_with_nodes() {
+    let trace = |flags: &[&str]| -> Value {
+        let mut args = vec![
+            "trace",
+            "aligned-vibration",
+            "--method",
+            "bsmpm",
+            "--cells",
+            "2",
+            "--ppc",
+            "4",
+            "--steps",
+            "2",
+            "--json",
+        ];
+        args.extend_from_slice(flags);
+        serde_json::from_str(&hompm::cli::run(&args).unwrap().stdout).unwrap()
+    };
+    let taichi = trace(&["--transfer", "apic", "--knots", "padded"]);
+    let step = &taichi["steps"][1]["equations"];
+    // 4 particles per cell, 4 cells: 16 particles × 4 entries of C_p; the
+    // padded grid has (2 + 3)² nodes.
+    assert_eq!(step["apic-c"].as_array().unwrap().len(), 16 * 4);
+    assert_eq!(step["mls-22"].as_array().unwrap().len(), 25);
+    assert!(step.get("nodal-body-force").is_none());
+    let nodes = trace(&["--body-force", "nodes"]);
+    let step = &nodes["steps"][0]["equations"];
+    assert_eq!(step["nodal-body-force"].as_array().unwrap().len(), 2 * 16);
+    assert!(step.get("apic-c").is_none());
+}
