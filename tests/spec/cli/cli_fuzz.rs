@@ -77,6 +77,20 @@ const TABLE_IDS: &[&str] = &["no-such-table", "", "book-4.2\n"];
 
 /// One option: its flag and a value drawn from `pool` (a `None` pool is a
 /// boolean flag).
+/// Values of `--scheme` and `--transfer`, valid and not.
+const SCHEMES: &[&str] = &["musl", "usl", "usf", "mls", ""];
+const TRANSFERS: &[&str] = &[
+    "flip",
+    "pic",
+    "apic",
+    "flip:0.99",
+    "flip:1",
+    "flip:0",
+    "flip:-1",
+    "flip:nan",
+    "flip:",
+];
+
 fn option(flag: &'static str, pool: Option<&'static [&'static str]>) -> BoxedStrategy<Vec<String>> {
     match pool {
         None => Just(vec![flag.to_string()]).boxed(),
@@ -161,6 +175,13 @@ fn arguments() -> impl Strategy<Value = Vec<String>> {
                     "--params",
                     Some(&["thesis-table-4.1", "tls-table-2", "nope"]),
                 ),
+                option("--scheme", Some(SCHEMES)),
+                option("--transfer", Some(TRANSFERS)),
+                option("--positions", Some(&["projected", "grid", "nodes", ""])),
+                option("--body-force", Some(&["particles", "nodes", "cells"])),
+                option("--knots", Some(&["open", "padded", "closed"])),
+                option("--gradient", Some(&["basis", "affine", "mls"])),
+                option("--solution", Some(&["mls-paper", "axis-aligned", "uintah"])),
                 option("--json", None),
             ],
         )
@@ -215,6 +236,9 @@ fn arguments() -> impl Strategy<Value = Vec<String>> {
                 option("--steps", Some(&["0", "1", "2", "3", "-1", "x"])),
                 option("--every", Some(COUNTS)),
                 option("--residual", Some(&["rhs", "solution", "both"])),
+                option("--scheme", Some(SCHEMES)),
+                option("--transfer", Some(TRANSFERS)),
+                option("--knots", Some(&["open", "padded"])),
                 option("--json", None),
                 option("--csv", None),
             ],
