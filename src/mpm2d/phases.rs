@@ -32,7 +32,7 @@ use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
-use super::workspace::{Conservation2d, Workspace2d};
+use super::workspace::{Conservation2d, StepWorkspace2d};
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
@@ -48,11 +48,11 @@ pub use other_codes::{
 pub fn evaluate_basis(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
     step: usize,
 ) -> Result<()> {
     let axis = grid.axis();
-    for (coords, stencils) in [(&p.x, &mut ws.along_x), (&p.y, &mut ws.along_y)] {
+    for (coords, stencils) in [(&p.x, &mut ws.stencils_x), (&p.y, &mut ws.stencils_y)] {
         if let Err(e) = axis.fill_stencils(coords, stencils, &mut ws.scratch) {
             let k = coords
                 .iter()
@@ -78,14 +78,14 @@ pub fn evaluate_basis(
 pub(super) fn evaluate_basis_at_reference(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
 ) -> Result<()> {
     let xs: Vec<f64> = p.x0.iter().map(|x| x[0]).collect();
     let ys: Vec<f64> = p.x0.iter().map(|x| x[1]).collect();
     grid.axis()
-        .fill_stencils(&xs, &mut ws.along_x, &mut ws.scratch)?;
+        .fill_stencils(&xs, &mut ws.stencils_x, &mut ws.scratch)?;
     grid.axis()
-        .fill_stencils(&ys, &mut ws.along_y, &mut ws.scratch)
+        .fill_stencils(&ys, &mut ws.stencils_y, &mut ws.scratch)
 }
 
 /// The tensor-product stencil of one point, MLS paper Eqs. (4)–(5): from
@@ -137,7 +137,7 @@ impl<'a> TensorStencil<'a> {
     }
 }
 
-fn clear_nodes(ws: &mut Workspace2d) {
+fn clear_nodes(ws: &mut StepWorkspace2d) {
     ws.mass.iter_mut().for_each(|m| *m = 0.0);
     ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
     ws.force.iter_mut().for_each(|f| *f = [0.0; 2]);
@@ -146,7 +146,7 @@ fn clear_nodes(ws: &mut Workspace2d) {
 /// Phase 1 with the particles as quadrature points: m_i = Σ_p N_i m_p,
 /// (mv)_i = Σ_p N_i m_p v_p, f_i = Σ_p (N_i m_p b_p − V_p σ_p ∇N_i)
 /// (MLS paper Eqs. 22–26 with ρ ω → m_p at x_p).
-pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
+pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut StepWorkspace2d) {
     clear_nodes(ws);
     let stress = |k: usize| p.stress[k] * p.volume[k];
     with_width!(
@@ -159,7 +159,11 @@ pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) {
 /// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
 /// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ. A particle with det F ≤ 0, which has no such
 /// P, is `Error::InvertedDeformation`.
-pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+pub fn map_direct_reference(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut StepWorkspace2d,
+) -> Result<()> {
     clear_nodes(ws);
     for (k, f) in p.deformation.iter().enumerate() {
         NeoHookean::jacobian(f).map_err(|e| particle_error(e, k))?;
@@ -183,12 +187,12 @@ pub fn map_direct_reference(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d
 fn map_direct_with<const W: usize>(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
     stress: impl Fn(usize) -> Matrix2<f64>,
 ) {
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let m = p.mass[k];
         let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
@@ -208,7 +212,7 @@ fn map_direct_with<const W: usize>(
 /// at every Gauss point (MLS paper Eqs. 18–21, f̃_g = Σ_p φ_gp f_p), then
 /// m_i = Σ_g N_i(x_g) ρ_g ω_g (22), (mv)_i = Σ_g N_i (ρv)_g ω_g (23),
 /// f_i^b = Σ_g N_i (ρb)_g ω_g (24) and f_i^int = −Σ_g ∇N_i σ_g ω_g (25).
-pub fn map_reconstructed(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -> Result<()> {
+pub fn map_reconstructed(grid: &Grid2d, p: &Particles2d, ws: &mut StepWorkspace2d) -> Result<()> {
     clear_nodes(ws);
     // Taken out for the loop (a move, no allocation) and put back below.
     let Some(mut shapes) = ws.reconstruction.take() else {
@@ -224,7 +228,7 @@ pub fn map_reconstructed(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d) -
 fn map_reconstructed_with(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
     shapes: &mut dyn GaussReconstruction,
 ) -> Result<()> {
     let gauss = GaussGrid {
@@ -232,7 +236,7 @@ fn map_reconstructed_with(
         cells: grid.cells(),
         cell_size: grid.cell_size(),
     };
-    shapes.evaluate(&gauss, p, &ws.along_x.first, &ws.along_y.first)?;
+    shapes.evaluate(&gauss, p, &ws.stencils_x.first, &ws.stencils_y.first)?;
     let lists = shapes.lists();
     let omega = grid.gauss_weight();
     let ng = 2 * grid.cells();
@@ -271,7 +275,13 @@ fn map_reconstructed_with(
 
 /// Eqs. (22)–(25) for one Gauss point (gx, gy) with ω-weighted values
 /// q = ω [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy].
-fn scatter_gauss_point(grid: &Grid2d, gx: usize, gy: usize, q: &[f64; 8], ws: &mut Workspace2d) {
+fn scatter_gauss_point(
+    grid: &Grid2d,
+    gx: usize,
+    gy: usize,
+    q: &[f64; 8],
+    ws: &mut StepWorkspace2d,
+) {
     let s = grid.gauss_stencils();
     let stencil = TensorStencil::of(s, gx, s, gy, s.width(), grid.nodes_per_side());
     stencil.for_each(|i, nn, dn| {
@@ -283,7 +293,7 @@ fn scatter_gauss_point(grid: &Grid2d, gx: usize, gy: usize, q: &[f64; 8], ws: &m
     });
 }
 
-pub(super) fn record_conservation(p: &Particles2d, ws: &Workspace2d, c: &mut Conservation2d) {
+pub(super) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
     let particle_mass = p.total_mass();
     let grid_mass: f64 = ws.mass.iter().sum();
     let pm = p.total_momentum();
@@ -330,7 +340,7 @@ fn wall_conditions(n: usize, rows: usize, field: &mut [[f64; 2]]) {
 /// `acceleration` = a_i = f_i/m_i (27) and `velocity_next` =
 /// (mv)_i^{t+1}/m_i, the velocity Eq. (30) moves the particles with. The
 /// phase-1 buffers `force` and `momentum` keep f_i and (mv)_i^t.
-pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
+pub fn nodal_update(grid: &Grid2d, ws: &mut StepWorkspace2d, dt: f64) {
     let (n, rows) = (grid.nodes_per_side(), grid.wall_rows());
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
@@ -362,7 +372,7 @@ pub fn nodal_update(grid: &Grid2d, ws: &mut Workspace2d, dt: f64) {
 pub fn update_particles(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     conventions: Conventions,
     dt: f64,
 ) {
@@ -381,12 +391,12 @@ pub fn update_particles(
 fn update_particles_with<const W: usize>(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     dt: f64,
 ) {
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
@@ -411,7 +421,7 @@ fn update_particles_with<const W: usize>(
 pub fn end_of_step_velocity(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
     mapping: Mapping2d,
 ) {
     ws.momentum_end.iter_mut().for_each(|m| *m = [0.0; 2]);
@@ -463,11 +473,11 @@ pub fn end_of_step_velocity(
 fn map_particle_momentum_with<const W: usize>(
     grid: &Grid2d,
     p: &Particles2d,
-    ws: &mut Workspace2d,
+    ws: &mut StepWorkspace2d,
 ) {
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
@@ -501,7 +511,7 @@ fn scatter_vector(
 pub fn update_deformation(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     material: &NeoHookean,
     dt: f64,
 ) -> Result<()> {
@@ -517,7 +527,7 @@ pub fn update_deformation(
 pub fn update_deformation_reference(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     material: &NeoHookean,
     dt: f64,
 ) -> Result<()> {
@@ -533,13 +543,13 @@ pub fn update_deformation_reference(
 fn update_deformation_with<const W: usize>(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     material: &NeoHookean,
     rule: impl Fn(Matrix2<f64>, Matrix2<f64>) -> Matrix2<f64>,
 ) -> Result<()> {
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let mut l = [0.0; 4];
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, _, dn| {

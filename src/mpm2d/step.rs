@@ -33,14 +33,14 @@
 //! that runs. [`Simulation2d::step`] passes [`NoObserver2d`].
 //!
 //! A step allocates nothing: the stencils, nodal arrays and MLS lists live
-//! in a [`Workspace2d`] made once (the MLS lists grow only if a Gauss point
+//! in a [`StepWorkspace2d`] made once (the MLS lists grow only if a Gauss point
 //! gathers more particles than the reserve).
 //!
 //! Items: [`ReconstructionRecord`], [`Formulation`], [`BodyForce2d`], [`Settings2d`], [`Simulation2d`], [`StepPoint2d`], [`StepObserver2d`],
 //! [`NoObserver2d`].
 //!
 //! Re-exported from [`super::mapping`]: [`Mapping2d`], [`MappingInfo`]; from
-//! [`super::workspace`]: [`Workspace2d`], [`Conservation2d`]; from
+//! [`super::workspace`]: [`StepWorkspace2d`], [`Conservation2d`]; from
 //! [`super::phases`]: the phase functions above and the
 //! total-Lagrangian reference's `map_direct_reference` and
 //! `update_deformation_reference`.
@@ -60,7 +60,7 @@ pub use super::phases::{
     map_reconstructed, move_particles, nodal_update, update_deformation, update_deformation_affine,
     update_deformation_reference, update_particles, update_particles_apic,
 };
-pub use super::workspace::{Conservation2d, Workspace2d};
+pub use super::workspace::{Conservation2d, StepWorkspace2d};
 
 /// The points of a 2D step after which a [`StepObserver2d`] is called.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -145,7 +145,7 @@ pub struct Simulation2d {
     /// The settings.
     pub settings: Settings2d,
     /// The workspace.
-    pub workspace: Workspace2d,
+    pub workspace: StepWorkspace2d,
     /// The body force, if any: evaluated at the particles' X_p, or with
     /// `--body-force nodes` at [`Grid2d::node_positions`].
     pub body_force: Option<Box<dyn BodyForce2d>>,
@@ -205,9 +205,9 @@ impl Simulation2d {
             BodyForceAt::Nodes => grid.node_positions(),
             BodyForceAt::Particles => Vec::new(),
         };
-        let workspace = Workspace2d {
-            along_x: grid.axis().stencils(n),
-            along_y: grid.axis().stencils(n),
+        let workspace = StepWorkspace2d {
+            stencils_x: grid.axis().stencils(n),
+            stencils_y: grid.axis().stencils(n),
             scratch: SpanScratch::default(),
             body_force: vec![[0.0; 2]; n],
             node_along: match settings.conventions.transfer {
@@ -378,7 +378,7 @@ fn check_conventions(settings: &Settings2d) -> Result<()> {
 
 /// `--body-force nodes`: f_i += m_i b(X_i, t) after phase 1, whose
 /// particle body force was left zero.
-fn add_nodal_body_force(ws: &mut Workspace2d) {
+fn add_nodal_body_force(ws: &mut StepWorkspace2d) {
     for ((f, &m), b) in ws.force.iter_mut().zip(&ws.mass).zip(&ws.nodal_body_force) {
         f[0] += m * b[0];
         f[1] += m * b[1];

@@ -2,10 +2,10 @@
 //!
 //! The nodal quantities of MLS paper Eqs. (22)–(33), the Gauss-point values
 //! of Eqs. (18)–(21) and the per-particle stencils, allocated once per run
-//! ([`Workspace2d`]), and the largest mapping errors of a run
+//! ([`StepWorkspace2d`]), and the largest mapping errors of a run
 //! ([`Conservation2d`]).
 //!
-//! Items: [`Workspace2d`], [`Conservation2d`].
+//! Items: [`StepWorkspace2d`], [`Conservation2d`].
 
 use super::reconstruction::GaussReconstruction;
 use crate::basis::Stencils;
@@ -23,13 +23,16 @@ pub struct Conservation2d {
     pub momentum: f64,
 }
 
-/// Everything a step writes besides the particles, allocated once.
+/// Everything a step writes besides the particles, allocated once: the 2D
+/// counterpart of the 1D `mpm::workspace::StepWorkspace` (issue #37's one
+/// vocabulary; the 1D step's `stencils` are here one per axis, since the
+/// 2D basis is their tensor product, MLS paper Eqs. 4–5).
 #[derive(Debug)]
-pub struct Workspace2d {
-    /// The x-axis basis at every particle.
-    pub along_x: Stencils,
-    /// The y-axis basis at every particle.
-    pub along_y: Stencils,
+pub struct StepWorkspace2d {
+    /// The x-axis basis N_a(x_p), N_a'(x_p) at every particle.
+    pub stencils_x: Stencils,
+    /// The y-axis basis N_b(y_p), N_b'(y_p) at every particle.
+    pub stencils_y: Stencils,
     pub(super) scratch: SpanScratch,
     /// b_p(t) per unit mass.
     pub body_force: Vec<[f64; 2]>,

@@ -24,7 +24,7 @@ use crate::mpm::conventions::{Conventions, Gradient, Positions};
 use crate::mpm2d::grid::Grid2d;
 use crate::mpm2d::material::NeoHookean;
 use crate::mpm2d::particles::Particles2d;
-use crate::mpm2d::workspace::Workspace2d;
+use crate::mpm2d::workspace::StepWorkspace2d;
 use nalgebra::Matrix2;
 
 /// Phase 3 with `--transfer pic|flip:α` or `--positions projected`:
@@ -33,14 +33,14 @@ use nalgebra::Matrix2;
 pub(super) fn update_particles_blended(
     grid: &Grid2d,
     p: &mut Particles2d,
-    ws: &Workspace2d,
+    ws: &StepWorkspace2d,
     conventions: Conventions,
     dt: f64,
 ) {
     let alpha = conventions.transfer.flip_weight();
     let moves = conventions.positions == Positions::Grid;
     let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
@@ -63,9 +63,9 @@ pub(super) fn update_particles_blended(
 
 /// `--positions projected` in 2D, after Eqs. (31)–(33): x_p += Δt Σ_i N_i
 /// v_i^L with the basis at x_p^t (book Eq. 4.11's rule); u_p = x_p − X_p.
-pub fn move_particles(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+pub fn move_particles(grid: &Grid2d, p: &mut Particles2d, ws: &StepWorkspace2d, dt: f64) {
     let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
-    let (sx, sy) = (&ws.along_x, &ws.along_y);
+    let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for k in 0..p.len() {
         let mut v = [0.0; 2];
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
@@ -90,17 +90,22 @@ fn inertia_along(s: &Stencils, k: usize, nodes: &[f64], x: f64) -> f64 {
 }
 
 /// (D_x⁻¹, D_y⁻¹) of particle k.
-fn inverse_inertia(ws: &Workspace2d, k: usize, x: f64, y: f64) -> [f64; 2] {
+fn inverse_inertia(ws: &StepWorkspace2d, k: usize, x: f64, y: f64) -> [f64; 2] {
     [
-        1.0 / inertia_along(&ws.along_x, k, &ws.node_along, x),
-        1.0 / inertia_along(&ws.along_y, k, &ws.node_along, y),
+        1.0 / inertia_along(&ws.stencils_x, k, &ws.node_along, x),
+        1.0 / inertia_along(&ws.stencils_y, k, &ws.node_along, y),
     ]
 }
 
 /// Phase 1 with APIC: m_i = Σ_p N_i m_p, (mv)_i = Σ_p N_i m_p (v_p + C_p
 /// (x_i − x_p)), f_i = Σ_p N_i m_p b_p − V_p σ_p g_ip with g_ip = ∇N_i
 /// (`--gradient basis`) or D_p⁻¹ (x_i − x_p) N_i (`affine`, MLS-MPM).
-pub fn map_direct_apic(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d, gradient: Gradient) {
+pub fn map_direct_apic(
+    grid: &Grid2d,
+    p: &Particles2d,
+    ws: &mut StepWorkspace2d,
+    gradient: Gradient,
+) {
     let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
     for m in ws.mass.iter_mut() {
         *m = 0.0;
@@ -113,7 +118,7 @@ pub fn map_direct_apic(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d, gra
         let (v, c, b) = (p.velocity[k], p.affine[k], ws.body_force[k]);
         let s = p.stress[k] * p.volume[k];
         let d_inv = inverse_inertia(ws, k, x, y);
-        let (sx, sy) = (&ws.along_x, &ws.along_y);
+        let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
         let stencil = TensorStencil::of(sx, k, sy, k, w, n);
         let node = &ws.node_along;
         stencil.for_each(|i, nn, dn| {
@@ -137,9 +142,9 @@ pub fn map_direct_apic(grid: &Grid2d, p: &Particles2d, ws: &mut Workspace2d, gra
 
 /// Phase 3 with APIC: v_p = Σ N_i v_i^{t+1}, C_p = Σ N_i v_i^{t+1} ⊗
 /// (x_i − x_p) D_p⁻¹ (at x_p^t), then x_p += Δt v_p (Eq. 30).
-pub fn update_particles_apic(grid: &Grid2d, p: &mut Particles2d, ws: &Workspace2d, dt: f64) {
+pub fn update_particles_apic(grid: &Grid2d, p: &mut Particles2d, ws: &StepWorkspace2d, dt: f64) {
     let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
-    let (sx, sy, node) = (&ws.along_x, &ws.along_y, &ws.node_along);
+    let (sx, sy, node) = (&ws.stencils_x, &ws.stencils_y, &ws.node_along);
     for k in 0..p.len() {
         let (x, y) = (p.x[k], p.y[k]);
         let d_inv = inverse_inertia(ws, k, x, y);

@@ -440,7 +440,7 @@ fn padded_knots_are_node_centred_quadratic_b_splines_with_one_node_beyond_each_w
     // Taichi's weights: base = floor(x/h − ½) = −1, fx = x/h − base = 1.3:
     // (½(3/2 − fx)², ¾ − (fx − 1)², ½(fx − ½)²) on nodes −1, 0, 1.
     let fx: f64 = 1.3;
-    let s = &sim.workspace.along_x;
+    let s = &sim.workspace.stencils_x;
     assert_eq!(s.first[0], 0, "node −1 is the first");
     assert_all(
         s.values_of(0),
