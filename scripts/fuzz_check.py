@@ -775,10 +775,1230 @@ def fam_streams(rng, b):
     return c
 
 
+# --- LAMMPS-style dump files (issue #36; --kind dump) ----------------------
+#
+# Inputs are hompm's own runs written as Karamelo writes its particles
+# (ids from 1; 1D `id type x0 x vx s11`, 2D `id type x0 y0 x y vx vy s11 s22
+# s12`), checked with `--columns v=vx,stress=s11` (1D) or the 2D mapping,
+# then mutated. Where a mutated file is still well-formed, the expected exit
+# comes from the tolerance rule of docs/oracle.md re-done here (`judge`:
+# scale per field, the floor 4√n·ε·max|x| of a derived u, the 2D stress's
+# (λ + 2μ)·atol·max|F|): more than 4× the tolerance is 1, below a quarter
+# 0, in between either.
+
+DUMP_SETUPS = {
+    "dump-1d": ["vibrating-bar", "--cells", "4", "--steps", "20"],
+    "dump-2d": ["aligned-vibration", "--method", "mpm", "--cells", "2", "--ppc", "4", "--steps", "3"],
+    "dump-2d-bsmpm": ["aligned-vibration", "--method", "bsmpm", "--degree", "2", "--cells", "2", "--ppc", "4",
+                      "--steps", "3"],
+}
+DUMP_FAMILIES = ["dump_structure", "dump_counts", "dump_numbers", "dump_blocks", "dump_items", "dump_whitespace",
+                 "dump_ids", "dump_perturb", "dump_format", "dump_flags", "dump_json_flags", "dump_huge"]
+DUMP_HEADER = {False: ["id", "type", "x0", "x", "vx", "s11"],
+               True: ["id", "type", "x0", "y0", "x", "y", "vx", "vy", "s11", "s22", "s12"]}
+# A dump column -> hompm's column (what --columns maps, ours=theirs).
+DUMP_MAP = {False: {"vx": "v", "s11": "stress", "ux": "u"},
+            True: {"x0": "x0_x", "y0": "x0_y", "x": "x_x", "y": "x_y", "vx": "v_x", "vy": "v_y",
+                   "s11": "stress_xx", "s22": "stress_yy", "s12": "stress_xy", "ux": "u_x", "uy": "u_y"}}
+DUMP_FIELDS = {
+    False: {"u": ["u"], "v": ["v"], "stress": ["stress"], "x0": ["x0"], "x": ["x"], "volume": ["volume"],
+            "density": ["density"]},
+    True: {"u": ["u_x", "u_y"], "v": ["v_x", "v_y"], "stress": ["stress_xx", "stress_xy", "stress_yx", "stress_yy"],
+           "F": ["F_xx", "F_xy", "F_yx", "F_yy"], "x0": ["x0_x", "x0_y"], "x": ["x_x", "x_y"],
+           "volume": ["volume"], "density": ["density"]}}
+DUMP_PHYSICAL = {"u", "v", "stress", "F"}
+RTOL, ATOL, EPS = 1e-9, 1e-12, 2.220446049250313e-16
+FLOAT_RE = re.compile(r"[+-]?(inf|infinity|nan|([0-9]+|[0-9]+\.[0-9]*|[0-9]*\.[0-9]+)([eE][+-]?[0-9]+)?)", re.I)
+U64_RE = re.compile(r"\+?[0-9]+")
+# Rust's char::is_whitespace (what split_whitespace splits on).
+RUST_WS = set("\t\n\x0b\x0c\r \x85\xa0\u1680\u2000\u2001\u2002\u2003\u2004\u2005\u2006\u2007\u2008\u2009\u200a"
+              "\u2028\u2029\u202f\u205f\u3000")
+CONVENTION_FLAGS = {
+    "--scheme": ["musl", "usl", "usf"],
+    "--transfer": ["flip", "pic", "flip:0.5", "flip:0.99", "flip:1", "flip:0", "apic"],
+    "--positions": ["projected", "grid"],
+    "--body-force": ["particles", "nodes"],
+    "--knots": ["open", "padded"],
+    "--gradient": ["basis", "affine"],
+    "--solution": ["mls-paper", "axis-aligned"],
+}
+TAICHI = ["--transfer", "apic", "--gradient", "affine", "--knots", "padded"]
+
+
+def rust_float(tok):
+    """The number Rust's `str::parse::<f64>` reads from `tok`, or None."""
+    return float(tok) if FLOAT_RE.fullmatch(tok) else None
+
+
+def rust_split(line):
+    """`str::split_whitespace` as Rust does it."""
+    out, cur = [], ""
+    for ch in line:
+        if ch in RUST_WS:
+            if cur:
+                out.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    return out + ([cur] if cur else [])
+
+
+def rust_u64(tok):
+    t = tok.strip("".join(RUST_WS))
+    return int(t) if U64_RE.fullmatch(t) and int(t) < 2 ** 64 else None
+
+
+def dfmt(v, style="repr"):
+    if isinstance(v, int):
+        return str(v)
+    if style == "repr":
+        return repr(float(v))
+    return style % v
+
+
+def with_steps(setup, k):
+    s = list(setup)
+    s[s.index("--steps") + 1] = str(k)
+    return s
+
+
+class DumpBase:
+    """One setup's run (JSON) as the base of dump files, and a cache of runs
+    and traces of the same setup under other flags."""
+
+    def __init__(self, name, binary):
+        self.name, self.setup, self.binary = name, DUMP_SETUPS[name], binary
+        self.two_d = self.setup[0] == "aligned-vibration"
+        self.cache = {}
+        code, self.run_text, err = self.output("run", [])
+        if code != 0:
+            sys.exit(f"{binary} run {' '.join(self.setup)}: exit {code}: {err}")
+        self.run = json.loads(self.run_text)
+        self.n = len(self.run["particles"]["x0"])
+        self.steps = int(self.run["steps"])
+        x0 = self.run["particles"]["x0"]
+        xs = sorted({e[0] if self.two_d else e for e in x0})
+        self.spacing = min(b - a for a, b in zip(xs, xs[1:]))
+        self.header = DUMP_HEADER[self.two_d]
+        self.map = DUMP_MAP[self.two_d]
+        self.length = float(self.run["params"]["length"])
+        self.stress_k = 0.0
+        if self.two_d:
+            e, nu = self.run["params"]["young"], self.run["params"]["poisson"]
+            mu, lam = e / (2 * (1 + nu)), e * nu / ((1 + nu) * (1 - 2 * nu))
+            self.stress_k = lam + 2 * mu
+
+    def output(self, command, flags, setup=None):
+        key = (command, tuple(setup or self.setup), tuple(flags))
+        if key not in self.cache:
+            p = subprocess.run([self.binary, command, *(setup or self.setup), *flags, "--json"], capture_output=True,
+                               text=True)
+            self.cache[key] = (p.returncode, p.stdout, p.stderr.strip())
+        return self.cache[key]
+
+    def run_json(self, flags=(), setup=None):
+        code, out, _ = self.output("run", list(flags), setup)
+        return json.loads(out) if code == 0 else None
+
+    def digest(self):
+        return hashlib.sha256(self.run_text.encode()).hexdigest()[:16]
+
+    def conventions(self, run):
+        """The conventions a run ran with (its JSON names them unless they are the book's)."""
+        c = dict(run.get("conventions") or {"scheme": "musl", "transfer": "flip",
+                                            "positions": "grid" if self.two_d else "projected",
+                                            "body-force": "particles", "knots": "open", "gradient": "basis"})
+        if self.two_d:
+            c["solution"] = run["params"].get("solution", "mls-paper")
+        return c
+
+
+def dump_values(b, run):
+    """Per particle (hompm's order), the dump's columns as numbers."""
+    p, rows = run["particles"], []
+    for i in range(len(p["x0"])):
+        if b.two_d:
+            s = p["stress"][i]
+            r = {"x0": p["x0"][i][0], "y0": p["x0"][i][1], "x": p["x"][i][0], "y": p["x"][i][1],
+                 "vx": p["v"][i][0], "vy": p["v"][i][1], "s11": s[0], "s22": s[3], "s12": s[1]}
+            r["ux"], r["uy"] = r["x"] - r["x0"], r["y"] - r["y0"]
+        else:
+            r = {"x0": p["x0"][i], "x": p["x"][i], "vx": p["v"][i], "s11": p["stress"][i]}
+            r["ux"] = r["x"] - r["x0"]
+        r["id"], r["type"] = i + 1, 1
+        rows.append(r)
+    return rows
+
+
+class DBlock:
+    """One block of a dump file, as text tokens."""
+
+    def __init__(self, timestep, header, rows, box):
+        self.timestep, self.natoms = str(timestep), None
+        self.header, self.rows, self.box = list(header), rows, list(box)
+        self.pre = []  # lines between the atom count and the box
+
+    def lines(self):
+        head = ["ITEM: TIMESTEP", self.timestep, "ITEM: NUMBER OF ATOMS",
+                str(len(self.rows)) if self.natoms is None else self.natoms]
+        return head + self.pre + self.box + ["ITEM: ATOMS " + " ".join(self.header)] + [" ".join(r) for r in self.rows]
+
+
+def box_lines(b):
+    return (["ITEM: BOX BOUNDS sm sm sm", f"0 {b.length!r}", f"0 {b.length!r}" if b.two_d else "0 0", "0 0"])
+
+
+def make_block(b, run=None, header=None, timestep=None, style="repr", order=None, ids=None):
+    """A block of `run`'s particles (default: the base run) in `order`; `ids`
+    (default: each particle's own, from 1) by row."""
+    values = dump_values(b, run or b.run)
+    header = list(header or b.header)
+    order = list(range(len(values))) if order is None else order
+    rows = []
+    for r, k in enumerate(order):
+        v = dict(values[k])
+        if ids is not None:
+            v["id"] = ids[r]
+        rows.append([dfmt(v[h], style) for h in header])
+    ts = int((run or b.run)["steps"]) if timestep is None else timestep
+    return DBlock(ts, header, rows, box_lines(b))
+
+
+def dump_text(blocks, newline="\n"):
+    return newline.join(l for blk in blocks for l in blk.lines()) + newline
+
+
+def dump_columns(b, header, colmap=None):
+    """--columns for the dump columns in `header`."""
+    m = b.map if colmap is None else colmap
+    cols = ",".join(f"{m[h]}={h}" for h in dict.fromkeys(header) if h in m and m[h] != h)
+    return ["--columns", cols] if cols else []
+
+
+def theirs_of(b, header, rows, colmap=None, match="auto", lenient=False):
+    """hompm-named columns in hompm's particle order from a well-formed block
+    (every token a finite number), or None where the file must be refused
+    (rows that match no particle, twice, or an id that contradicts x0).
+    `lenient` matches ids as hompm does (a column 1..n after the dump's −1 is
+    taken as 1-based once more); otherwise dump ids must be 1..n."""
+    m = b.map if colmap is None else colmap
+    cols = {}
+    for c, h in enumerate(header):
+        cols[m.get(h, h)] = [float(r[c]) for r in rows]
+    n = len(rows)
+    if n != b.n:
+        return None
+    x0names = ["x0_x", "x0_y"] if b.two_d else ["x0"]
+    ref_x0 = b.run["particles"]["x0"]
+    ref_x0 = [[e[0] for e in ref_x0], [e[1] for e in ref_x0]] if b.two_d else [ref_x0]
+    their_x0 = [cols[c] for c in x0names] if all(c in cols for c in x0names) else None
+    ids = cols.pop("id", None)
+    if match == "order":
+        perm = list(range(n))
+    elif ids is not None and match in ("auto", "id"):
+        k = [i - 1 for i in ids]
+        if lenient and all(x >= 1 for x in k) and float(n) in k:
+            k = [x - 1 for x in k]
+        if sorted(k) != [float(i) for i in range(n)]:
+            return None
+        perm = [int(x) for x in k]
+        if their_x0 is not None:
+            for r in range(n):
+                if any(abs(their_x0[a][r] - ref_x0[a][perm[r]]) > b.spacing / 4 for a in range(len(x0names))):
+                    return None
+    else:
+        if their_x0 is None:
+            return None
+        perm = []
+        for r in range(n):
+            best = min(range(n), key=lambda k: sum((their_x0[a][r] - ref_x0[a][k]) ** 2 for a in range(len(x0names))))
+            if any(abs(their_x0[a][r] - ref_x0[a][best]) > b.spacing / 4 for a in range(len(x0names))):
+                return None
+            perm.append(best)
+        if len(set(perm)) != n:
+            return None
+    known = {c for cs in DUMP_FIELDS[b.two_d].values() for c in cs}
+    out = {}
+    for name, vals in cols.items():
+        if name in known:
+            col = [0.0] * n
+            for r in range(n):
+                col[perm[r]] = vals[r]
+            out[name] = col
+    return out
+
+
+def ours_of(b, run):
+    p = run["particles"]
+    if not b.two_d:
+        return {k: list(p[k]) for k in ("x0", "x", "u", "v", "stress", "volume", "density") if k in p}
+    out = {}
+    for name, comps in COMPONENTS.items():
+        if name in p:
+            for c, cname in enumerate(comps):
+                out[cname] = [e[c] for e in p[name]]
+    for k in ("volume", "density"):
+        if k in p:
+            out[k] = list(p[k])
+    return out
+
+
+def judge(b, ref, theirs):
+    """The largest |yours − hompm| over its tolerance (docs/oracle.md), or
+    None when no physical field is compared."""
+    ours, theirs = ours_of(b, ref), dict(theirs)
+    steps = int(ref["steps"])
+    axes = [("u_x", "x_x", "x0_x"), ("u_y", "x_y", "x0_y")] if b.two_d else [("u", "x", "x0")]
+    derived = set()
+    for u, x, x0 in axes:
+        if x in theirs and x0 in theirs:
+            vals = [a - c for a, c in zip(theirs[x], theirs[x0])]
+            if u not in theirs:
+                theirs[u] = vals
+                derived.add(u)
+            elif theirs[u] == vals:
+                derived.add(u)
+    largest_x = max([max(abs(v) for v in theirs[x]) for _, x, _ in axes if x in theirs] or [0.0])
+    floor = 4 * math.sqrt(max(steps, 1)) * EPS * largest_x if derived else 0.0
+    stress_floor = 0.0
+    if b.two_d:
+        stress_floor = b.stress_k * ATOL * max(abs(v) for c in ("F_xx", "F_xy", "F_yx", "F_yy") for v in ours[c])
+    worst, physical = 0.0, False
+    for field, cols in DUMP_FIELDS[b.two_d].items():
+        present = [c for c in cols if c in theirs and c in ours]
+        if not present:
+            continue
+        physical |= field in DUMP_PHYSICAL
+        scale = max(abs(v) for c in present for v in ours[c])
+        for c in present:
+            least = floor if c in derived else (stress_floor if c.startswith("stress") else 0.0)
+            atol_abs = max(ATOL * scale, least)
+            for a, h in zip(theirs[c], ours[c]):
+                d = abs(a - h)
+                thr = max(atol_abs, RTOL * abs(h))
+                r = d / thr if thr > 0 else (math.inf if d > 0 else 0.0)
+                worst = max(worst, r)
+    return worst if physical else None
+
+
+def expect_of(worst):
+    if worst is None:
+        return (2,)
+    if worst > 4:
+        return (1,)
+    if worst < 0.25:
+        return (0,)
+    return (0, 1)
+
+
+def oracle(b, ref, header, rows, colmap=None, match="auto"):
+    """(expected exits, whether an exit 0 would be physically right) for a
+    well-formed block checked against the run `ref`."""
+    strict = theirs_of(b, header, rows, colmap, match)
+    expect = expect_of(judge(b, ref, strict)) if strict is not None else (2,)
+    lenient = theirs_of(b, header, rows, colmap, match, lenient=True)
+    ok0 = lenient is not None and 0 in expect_of(judge(b, ref, lenient))
+    return expect, ok0
+
+
+def dcase(family, variant, b, text, header, expect, rng, extra=(), agree_ok=False, colmap=None, columns=True):
+    ex = (dump_columns(b, header, colmap) if columns else []) + list(extra)
+    c = Case(family, variant, b, text, "dump", ex, expect, json_report=rng.random() < 0.25)
+    c.agree_ok = agree_ok
+    return c
+
+
+def judged_case(family, variant, b, blocks, rng, chosen=None, extra=(), ref=None, colmap=None, match="auto",
+                text=None, header_for_columns=None):
+    """A well-formed file: expected exit from the oracle on the chosen block."""
+    blk = chosen or blocks[-1]
+    expect, ok0 = oracle(b, ref or b.run, blk.header, blk.rows, colmap, match)
+    extra = list(extra) + (["--match", match] if match != "auto" else [])
+    hdr = header_for_columns or sorted({h for bl in blocks for h in bl.header})
+    return dcase(family, variant, b, text if text is not None else dump_text(blocks), hdr, expect, rng, extra,
+                 agree_ok=ok0, colmap=colmap)
+
+
+def karamelo_order(b):
+    """Row order y-fastest (Karamelo's 2D numbering); hompm's is x-fastest."""
+    if not b.two_d:
+        return list(range(b.n))
+    x0 = b.run["particles"]["x0"]
+    return sorted(range(b.n), key=lambda k: (x0[k][0], x0[k][1]))
+
+
+def earlier_run(b, rng):
+    k = rng.randint(1, b.steps - 1)
+    return k, b.run_json([], with_steps(b.setup, k))
+
+
+def fam_dump_control(rng, b):
+    kinds = ["plain", "no-type", "with-u", "no-x", "no-x0", "no-id", "rows-shuffled", "columns-shuffled",
+             "earlier-block", "earlier-block-step", "final-first-step", "time-units", "triclinic", "crlf", "tabs",
+             "blank-lines", "trailing-space", "leading-blank", "format-flag", "match-x0", "karamelo-order-x0",
+             "17g", "json-report"]
+    kind = rng.choice(kinds)
+    header = list(b.header)
+    order, ids, extra, match = None, None, [], "auto"
+    style = "%.17g" if kind == "17g" else "repr"
+    if kind == "no-type":
+        header.remove("type")
+    elif kind == "with-u":
+        header += ["ux", "uy"] if b.two_d else ["ux"]
+    elif kind == "no-x":
+        header = [h for h in header if h not in ("x", "y")]
+    elif kind == "no-x0":
+        header = [h for h in header if h not in ("x0", "y0")]
+    elif kind == "no-id":
+        header.remove("id")
+    elif kind == "rows-shuffled":
+        order = list(range(b.n))
+        rng.shuffle(order)
+    elif kind == "columns-shuffled":
+        rng.shuffle(header)
+    elif kind == "match-x0":
+        match = "x0"
+    elif kind == "karamelo-order-x0":
+        order, match = karamelo_order(b), "x0"
+        ids = list(range(1, b.n + 1))
+    final = make_block(b, header=header, order=order, ids=ids, style=style)
+    blocks = [final]
+    if kind in ("earlier-block", "earlier-block-step", "final-first-step"):
+        k, run = earlier_run(b, rng)
+        early = make_block(b, run=run, header=header, timestep=k)
+        blocks = [final, early] if kind == "final-first-step" else [early, final]
+        if kind != "earlier-block":
+            extra += ["--dump-step", str(b.steps)]
+    if kind == "time-units":
+        final.pre = ["ITEM: TIME", repr(float(b.run["time"])), "ITEM: UNITS", "si"]
+    if kind == "triclinic":
+        final.box = ["ITEM: BOX BOUNDS xy xz yz pp pp pp", f"0 {b.length!r} 0", "0 1 0", "0 0 0"]
+    if kind == "format-flag":
+        extra += ["--format", "lammps-dump"]
+    text = dump_text(blocks)
+    if kind == "crlf":
+        text = text.replace("\n", "\r\n")
+    elif kind == "tabs":
+        text = "\n".join(l if l.startswith("ITEM") else l.replace(" ", "\t") for l in text.split("\n"))
+    elif kind == "blank-lines":
+        lines = text.split("\n")
+        for _ in range(rng.randint(1, 5)):
+            lines.insert(rng.randrange(1, len(lines)), rng.choice(["", "   ", "\t"]))
+        text = "\n".join(lines)
+    elif kind == "trailing-space":
+        text = text.replace("\n", "  \n")
+    elif kind == "leading-blank":
+        text = "\n\n  \n" + text
+    c = judged_case("dump_control", kind, b, blocks, rng, chosen=final, extra=extra, match=match, text=text)
+    if kind == "json-report":
+        c.json_report = True
+    return c
+
+
+def fam_dump_structure(rng, b):
+    blocks = [make_block(b)]
+    if rng.random() < 0.3:
+        k, run = earlier_run(b, rng)
+        blocks.insert(0, make_block(b, run=run, timestep=k))
+    final = blocks[-1]
+    op = rng.choice(["drop-row", "drop-row-fix-count", "dup-row", "dup-row-fix-count", "drop-line", "dup-line",
+                     "dup-section-timestep", "dup-section-count", "count-twice-other", "dup-section-box",
+                     "swap-adjacent", "swap-adjacent", "move-count-first", "move-box-first", "truncate", "truncate",
+                     "truncate-end", "blank-lines", "comment-line", "garbage-line"])
+    if op in ("drop-row", "drop-row-fix-count"):
+        del final.rows[rng.randrange(b.n)]
+        final.natoms = str(b.n) if op == "drop-row" else None
+        return dcase("dump_structure", op, b, dump_text(blocks), final.header, (2,), rng)
+    if op in ("dup-row", "dup-row-fix-count"):
+        i = rng.randrange(b.n)
+        final.rows.insert(rng.randrange(b.n + 1), list(final.rows[i]))
+        final.natoms = str(b.n) if op == "dup-row" else None
+        return dcase("dump_structure", op, b, dump_text(blocks), final.header, (2,), rng)
+    if op in ("drop-line", "dup-line"):
+        lines = final.lines()
+        heads = len(lines) - len(final.rows)
+        i = rng.randrange(heads)
+        before = [l for blk in blocks[:-1] for l in blk.lines()]
+        if op == "drop-line":
+            del lines[i]
+        else:
+            lines.insert(i, lines[i])
+        text = "\n".join(before + lines) + "\n"
+        return dcase("dump_structure", f"{op}-{i}", b, text, final.header, (2,), rng)
+    if op == "dup-section-timestep":
+        final.pre = ["ITEM: TIMESTEP", final.timestep]
+        return dcase("dump_structure", op, b, dump_text(blocks), final.header, (2,), rng)
+    if op == "dup-section-count":
+        final.pre = ["ITEM: NUMBER OF ATOMS", str(b.n)]
+        c = judged_case("dump_structure", op, b, blocks, rng)  # accepted or refused: both (0 or 2) are fine
+        c.expect |= {2}
+        return c
+    if op == "count-twice-other":
+        other = str(rng.choice([b.n + 1, 2 * b.n, 0, 10 ** 9]))
+        if rng.random() < 0.5:  # the right count second: the reader keeps the last one
+            final.natoms, final.pre = other, ["ITEM: NUMBER OF ATOMS", str(b.n)]
+            c = judged_case("dump_structure", op + "-right-last", b, blocks, rng)
+            c.agree_ok, c.expect = 0 in c.expect, {2}
+            return c
+        final.pre = ["ITEM: NUMBER OF ATOMS", other]
+        return dcase("dump_structure", op + "-right-first", b, dump_text(blocks), final.header, (2,), rng)
+    if op == "dup-section-box":
+        final.pre = list(final.box)
+        c = judged_case("dump_structure", op, b, blocks, rng)
+        c.expect |= {2}
+        return c
+    if op in ("move-count-first", "move-box-first"):
+        lines = final.lines()
+        head, rest = lines[:4], lines[4:]
+        if op == "move-count-first":
+            lines = head[2:4] + head[0:2] + rest
+        else:
+            lines = rest[:4] + head + rest[4:]
+        text = "".join(l + "\n" for blk in blocks[:-1] for l in blk.lines()) + "\n".join(lines) + "\n"
+        c = judged_case("dump_structure", op, b, blocks, rng, text=text)
+        c.expect |= {2}
+        return c
+    if op == "swap-adjacent":
+        lines = [l for blk in blocks for l in blk.lines()]
+        kinds = []
+        for bi, blk in enumerate(blocks):
+            kinds += [(bi, "item"), (bi, "value"), (bi, "item"), (bi, "value"), (bi, "item"), (bi, "box"),
+                      (bi, "box"), (bi, "box"), (bi, "item")] + [(bi, "row")] * len(blk.rows)
+        i = rng.randrange(len(lines) - 1)
+        (b1, k1), (b2, k2) = kinds[i], kinds[i + 1]
+        same_block = b1 == b2
+        lines[i], lines[i + 1] = lines[i + 1], lines[i]
+        text = "\n".join(lines) + "\n"
+        if lines[i] == lines[i + 1] or (same_block and k1 == k2 and k1 in ("row", "box")):
+            if k1 == "row" and b1 == len(blocks) - 1:
+                r = i - sum(len(blk.lines()) for blk in blocks[:-1]) - 9
+                final.rows[r], final.rows[r + 1] = final.rows[r + 1], final.rows[r]
+            return judged_case("dump_structure", f"swap-{k1}-{k2}", b, blocks, rng, text=text)
+        return dcase("dump_structure", f"swap-{k1}-{k2}", b, text, final.header, (2,), rng)
+    if op in ("truncate", "truncate-end"):
+        return truncated(rng, b, blocks, op)
+    if op == "blank-lines":
+        lines = [l for blk in blocks for l in blk.lines()]
+        for _ in range(rng.randint(1, 6)):
+            lines.insert(rng.randrange(len(lines) + 1), rng.choice(["", " ", "\t", "  \t "]))
+        return judged_case("dump_structure", op, b, blocks, rng, text="\n".join(lines) + "\n")
+    lines = [l for blk in blocks for l in blk.lines()]
+    new = (rng.choice(["# a comment", "#", "# ITEM: TIMESTEP"]) if op == "comment-line"
+           else rng.choice(["garbage", "1 2 3", "x", "ITEM", "ITEMS: TIMESTEP", "END"]))
+    lines.insert(rng.randrange(len(lines) + 1), new)
+    return dcase("dump_structure", op, b, "\n".join(lines) + "\n", final.header, (2,), rng)
+
+
+def truncated(rng, b, blocks, op):
+    """The file cut at a byte: refused unless the cut leaves whole blocks or
+    only shortens the last number of a block's last row to a number."""
+    spans = []  # (block index, is that block's last row, line)
+    for bi, blk in enumerate(blocks):
+        ls = blk.lines()
+        for li, l in enumerate(ls):
+            spans.append((bi, li == len(ls) - 1, l))
+    text = "".join(l + "\n" for _, _, l in spans)
+    if op == "truncate-end":
+        cut = len(text) - rng.randint(0, 30)
+    else:
+        cut = rng.randrange(len(text) + 1)
+    pos = 0
+    for idx, (bi, last_row, line) in enumerate(spans):
+        end = pos + len(line)
+        if cut <= end:
+            off = cut - pos
+            break
+        pos = end + 1
+    else:
+        idx, off = len(spans) - 1, len(spans[-1][2])
+    bi, last_row, line = spans[idx]
+    cut_text = text[:cut]
+    variant = f"{op}-{'block' + str(bi)}"
+    if off == 0 and idx > 0 and spans[idx - 1][1]:  # a cut right after a block's last row
+        blk = blocks[spans[idx - 1][0]]
+        return judged_case("dump_structure", variant + "-at-block-end", b, blocks[:spans[idx - 1][0] + 1], rng,
+                           chosen=blk, text=cut_text)
+    if last_row and off > 0:
+        t0 = line.rfind(" ") + 1
+        blk = blocks[bi]
+        if off > t0:
+            tok = line[t0:off]
+            v = rust_float(tok)
+            if v is not None and math.isfinite(v):
+                rows = [list(r) for r in blk.rows]
+                rows[-1][-1] = tok
+                expect, ok0 = oracle(b, b.run, blk.header, rows)
+                return dcase("dump_structure", variant + ("-last-number" if off < len(line) else "-newline"), b,
+                             cut_text, blk.header, expect, rng, agree_ok=ok0)
+    return dcase("dump_structure", variant + "-partial", b, cut_text, blocks[-1].header, (2,), rng)
+
+
+def fam_dump_counts(rng, b):
+    blocks = [make_block(b)]
+    if rng.random() < 0.3:
+        k, run = earlier_run(b, rng)
+        blocks.insert(0, make_block(b, run=run, timestep=k))
+    final = blocks[-1]
+    n = b.n
+    op = rng.choice(["count", "count", "timestep", "timestep", "rows-fewer", "rows-more", "count-huge"])
+    if op == "count":
+        tok = rng.choice([n - 1, n + 1, 0, 2 * n, 2 ** 32, 2 ** 63, 2 ** 64 - 1, 2 ** 64, 10 ** 12, -n, f"{n}.0",
+                          f"{n / 10}e1", hex(n), "", f"+{n}", f"0{n}", f" {n} ", f"{n} {n}", "sixteen",
+                          "\u0661\u0666", "-0", f"{n}\u2028"])
+        final.natoms = str(tok)
+        v = rust_u64(final.natoms) if final.natoms.strip() else None
+        if v == n:
+            return judged_case("dump_counts", "count-same-value", b, blocks, rng)
+        return dcase("dump_counts", f"count-{'other' if v is not None else 'bad'}", b, dump_text(blocks),
+                     final.header, (2,), rng)
+    if op == "timestep":
+        tok = str(rng.choice([0, 1, b.steps, 2 ** 64 - 1, 2 ** 64, -1, "1.5", "abc", "", f"+{b.steps}",
+                              f"0{b.steps}", "1e3", "2e1", " 7 ", "\u0662"]))
+        final.timestep = tok
+        v = rust_u64(tok) if tok.strip() else None
+        if v is None:
+            return dcase("dump_counts", "timestep-bad", b, dump_text(blocks), final.header, (2,), rng)
+        if len(blocks) > 1 and v == int(blocks[0].timestep):
+            return dcase("dump_counts", "timestep-twice", b, dump_text(blocks), final.header, (2,), rng)
+        return judged_case("dump_counts", "timestep-valid", b, blocks, rng)
+    if op == "rows-fewer":
+        k = rng.randint(1, n - 1)
+        for _ in range(k):
+            del final.rows[rng.randrange(len(final.rows))]
+        return dcase("dump_counts", op, b, dump_text(blocks), final.header, (2,), rng)
+    if op == "rows-more":
+        k = rng.randint(1, 5)
+        xi = final.header.index("x0")
+        for j in range(k):
+            row = list(final.rows[rng.randrange(n)])
+            row[final.header.index("id")] = str(n + 1 + j)
+            row[xi] = repr(float(row[xi]) + b.spacing * (j + 1) * 0.37)
+            final.rows.append(row)
+        return dcase("dump_counts", op, b, dump_text(blocks), final.header, (2,), rng)
+    final.natoms = str(rng.choice([10 ** 9, 2 ** 40, 2 ** 63, 10 ** 18]))
+    return dcase("dump_counts", op, b, dump_text(blocks), final.header, (2,), rng)
+
+
+BAD_DUMP_NUMBERS = ["nan", "NaN", "-nan", "+nan", "inf", "-inf", "Infinity", "-infinity", "INF", "1e400", "-1e400",
+                    "1e309", "0x10", "0x1p3", "1,5", "1.0.0", "1e", "e5", "--1", "+-1", "1_000", "\u0661", "1d0",
+                    "1.0D+00", "\u00bd", "1e+", ".", "-", "+", "\u221e", "NULL", "true", "1e4OO", "1\u20282",
+                    "1\u00a02", "1\x002", "\x1e1", "1\x0b2", "1\u00851", "\ufeff1", "1#", "'1'", '"1"', "(1)"]
+
+
+def odd_number(rng, text):
+    """A valid spelling of another or the same number."""
+    v = float(text)
+    return rng.choice(["1e-400", "-0", "0", "+" + text, text + "e0", text.upper(), "%.6g" % v, "%.3e" % v,
+                       ("%.17e" % v).replace("e", "E"), "%.20f" % v, "-" + text if v >= 0 else text[1:],
+                       "1e-320", "4.9e-324", "1.7976931348623157e308", "-1.7976931348623157e308",
+                       "00" + text if v >= 0 else text, text + "0" if "." in text and "e" not in text else text])
+
+
+def fam_dump_numbers(rng, b):
+    final = make_block(b)
+    col = rng.choice([h for h in final.header if h != "id"])
+    c = final.header.index(col)
+    rows_hit = range(b.n) if rng.random() < 0.2 else [rng.randrange(b.n)]
+    kind = rng.choice(["bad", "bad", "odd", "empty"])
+    for r in rows_hit:
+        if kind == "bad":
+            final.rows[r][c] = rng.choice(BAD_DUMP_NUMBERS)
+        elif kind == "odd":
+            final.rows[r][c] = odd_number(rng, final.rows[r][c])
+        else:
+            final.rows[r][c] = ""
+    text = dump_text([final])
+    tokens = [rust_split(" ".join(r)) for r in final.rows]
+    valid = all(len(t) == len(final.header) for t in tokens) and all(
+        rust_float(x) is not None and math.isfinite(rust_float(x)) for t in tokens for x in t)
+    variant = f"{kind}-{'column' if len(rows_hit) > 1 else 'one'}-{col}"
+    if not valid:
+        return dcase("dump_numbers", variant, b, text, final.header, (2,), rng)
+    rows = [list(t) for t in tokens]
+    expect, ok0 = oracle(b, b.run, final.header, rows)
+    return dcase("dump_numbers", variant, b, text, final.header, expect, rng, agree_ok=ok0)
+
+
+def fam_dump_blocks(rng, b):
+    final = make_block(b)
+    k, run = earlier_run(b, rng)
+    early = make_block(b, run=run, timestep=k)
+    op = rng.choice(["same-timestep-twice", "same-timestep-other", "later-block", "earlier-dump-step",
+                     "final-then-earlier", "final-then-earlier-step", "absent-step", "empty-last", "empty-first",
+                     "empty-chosen", "other-columns-earlier", "other-columns-chosen", "many-earlier",
+                     "no-atoms-at-end", "atoms-no-columns", "atoms-dup-column", "atoms-more-names",
+                     "atoms-fewer-names", "timestep-twice-in-block", "descending-many"])
+    fh = final.header
+    if op == "same-timestep-twice":
+        return dcase("dump_blocks", op, b, dump_text([final, final]), fh, (2,), rng)
+    if op == "same-timestep-other":
+        early.timestep = final.timestep
+        blocks = [early, final] if rng.random() < 0.5 else [final, early]
+        return dcase("dump_blocks", op, b, dump_text(blocks), fh, (2,), rng)
+    if op == "later-block":
+        later_steps = b.steps + rng.randint(1, b.steps)
+        later = make_block(b, run=b.run_json([], with_steps(b.setup, later_steps)), timestep=later_steps)
+        step = rng.choice([None, b.steps, later_steps])
+        extra = ["--dump-step", str(step)] if step is not None else []
+        chosen = final if step == b.steps else later
+        return judged_case("dump_blocks", f"{op}-{'none' if step is None else 'final' if step == b.steps else 'later'}",
+                           b, [final, later], rng, chosen=chosen, extra=extra)
+    if op == "earlier-dump-step":
+        return judged_case("dump_blocks", op, b, [early, final], rng, chosen=early, extra=["--dump-step", str(k)])
+    if op in ("final-then-earlier", "final-then-earlier-step"):
+        extra = ["--dump-step", str(b.steps)] if op.endswith("step") else []
+        return judged_case("dump_blocks", op, b, [final, early], rng, chosen=final if extra else early, extra=extra)
+    if op == "absent-step":
+        step = rng.choice([k + b.steps, 0, 2 ** 64 - 1, b.steps + 1, b.steps - 1 if b.steps - 1 != k else 0])
+        blocks = [early, final] if rng.random() < 0.5 else [final]
+        if any(int(bl.timestep) == step for bl in blocks):
+            step = 10 ** 9
+        return dcase("dump_blocks", op, b, dump_text(blocks), fh, (2,), rng, extra=["--dump-step", str(step)])
+    if op in ("empty-last", "empty-first", "empty-chosen"):
+        empty = DBlock(b.steps + 5 if op == "empty-last" else 0, fh, [], box_lines(b))
+        if op == "empty-first":
+            return judged_case("dump_blocks", op, b, [empty, final], rng, chosen=final)
+        blocks = [final, empty]
+        extra = ["--dump-step", str(b.steps + 5)] if op == "empty-chosen" else []
+        return dcase("dump_blocks", op, b, dump_text(blocks), fh, (2,), rng, extra=extra)
+    if op in ("other-columns-earlier", "other-columns-chosen"):
+        hdr = rng.choice([["id", "x"], ["id", "type"], ["id", "x0"], ["id", "x", "x0"], ["id", "vx"],
+                          ["id", "s11", "type"]])
+        if b.two_d:
+            hdr = rng.choice([["id", "x", "y"], ["id", "type"], ["id", "x0", "y0"], ["id", "x", "y", "x0", "y0"],
+                              ["id", "vx", "vy"], ["id", "s12"]])
+        other = make_block(b, run=run, header=hdr, timestep=k)
+        if op == "other-columns-earlier":
+            return judged_case("dump_blocks", op, b, [other, final], rng, chosen=final)
+        return judged_case("dump_blocks", op + "-" + "+".join(hdr), b, [final, other], rng, chosen=other,
+                           extra=["--dump-step", str(k)], header_for_columns=sorted(set(hdr)))
+    if op == "many-earlier":
+        blocks = []
+        for t in range(rng.randint(50, 500)):
+            blk = DBlock(t, ["id", "x"], [], box_lines(b)) if rng.random() < 0.5 else make_block(b, run=run,
+                                                                                               timestep=t + 10 ** 6)
+            blocks.append(blk)
+        ts = {bl.timestep for bl in blocks}
+        if len(ts) != len(blocks) or final.timestep in ts:
+            return dcase("dump_blocks", op + "-dup", b, dump_text(blocks + [final]), fh, (2,), rng)
+        return judged_case("dump_blocks", op, b, blocks + [final], rng, chosen=final)
+    if op == "descending-many":
+        blocks = [make_block(b, run=run, timestep=10 ** 6 - t) for t in range(rng.randint(2, 20))]
+        return judged_case("dump_blocks", op, b, [final] + blocks, rng, chosen=final,
+                           extra=["--dump-step", str(b.steps)])
+    if op == "no-atoms-at-end":
+        text = dump_text([final]) + f"ITEM: TIMESTEP\n{b.steps + 1}\n" + (
+            f"ITEM: NUMBER OF ATOMS\n{b.n}\n" if rng.random() < 0.5 else "")
+        return dcase("dump_blocks", op, b, text, fh, (2,), rng)
+    if op == "atoms-no-columns":
+        final.header = []
+        return dcase("dump_blocks", op, b, dump_text([final]), fh, (2,), rng)
+    if op == "atoms-dup-column":
+        h = rng.choice(fh)
+        c = fh.index(h)
+        final.header = fh + [h]
+        for r in final.rows:
+            r.append(r[c])
+        return dcase("dump_blocks", op + "-" + h, b, dump_text([final]), fh, (2,), rng)
+    if op == "atoms-more-names":
+        final.header = fh + [rng.choice(["extra", "vz", "s33"])]
+        return dcase("dump_blocks", op, b, dump_text([final]), fh, (2,), rng)
+    if op == "atoms-fewer-names":
+        final.header = fh[:-1]
+        return dcase("dump_blocks", op, b, dump_text([final]), fh, (2,), rng)
+    final.pre = ["ITEM: TIMESTEP", str(b.steps + 1)]
+    return dcase("dump_blocks", op, b, dump_text([final]), fh, (2,), rng)
+
+
+UNKNOWN_ITEMS = ["ITEM: FOO", "ITEM:", "ITEM: atoms id x", "ITEM: TIMESTEPS", "ITEM: TIMESTEP extra",
+                 "ITEM: NUMBER OF ATOM", "ITEM: ENTRIES c_1[1]", "ITEM: DIMENSION", "ITEM: BOX", "ITEM: time",
+                 "ITEM: NUMBER  OF ATOMS", "ITEM: TIME\u2028X", "ITEM: \x1b[31mRED", "ITEM: A\x0bB"]
+
+
+def fam_dump_items(rng, b):
+    final = make_block(b)
+    fh = final.header
+    op = rng.choice(["unknown", "unknown", "unknown-in-rows", "time", "units", "time-before-timestep",
+                     "time-no-value-at-end", "time-bad-value", "no-space", "leading-space", "lowercase-prefix",
+                     "box-no-flags", "box-triclinic", "box-nan", "box-one-number", "box-text", "box-two-lines",
+                     "box-missing", "box-suffix", "atoms-tabs"])
+    lines = final.lines()
+    if op in ("unknown", "unknown-in-rows"):
+        item = rng.choice(UNKNOWN_ITEMS)
+        at = rng.choice([0, 2, 4, 8]) if op == "unknown" else rng.randrange(10, len(lines) + 1)
+        new = [item] + ([rng.choice(["1", "x"])] if rng.random() < 0.5 else [])
+        lines[at:at] = new
+        return dcase("dump_items", op, b, "\n".join(lines) + "\n", fh, (2,), rng)
+    if op in ("time", "units"):
+        final.pre = ["ITEM: TIME", repr(float(b.run["time"]))] if op == "time" else ["ITEM: UNITS", "lj"]
+        return judged_case("dump_items", op, b, [final], rng)
+    if op == "time-before-timestep":
+        text = f"ITEM: TIME\n{float(b.run['time'])!r}\n" + dump_text([final])
+        return judged_case("dump_items", op, b, [final], rng, text=text)
+    if op == "time-no-value-at-end":
+        return dcase("dump_items", op, b, dump_text([final]) + "ITEM: TIME\n", fh, (2,), rng)
+    if op == "time-bad-value":
+        final.pre = ["ITEM: TIME", rng.choice(["abc", "nan", "inf", "1e400", "-1"])]
+        c = judged_case("dump_items", op, b, [final], rng)
+        c.expect |= {2}
+        return c
+    if op in ("no-space", "leading-space"):
+        i = rng.choice([0, 2, 4, 8])
+        lines[i] = lines[i].replace("ITEM: ", "ITEM:") if op == "no-space" else "   " + lines[i]
+        c = judged_case("dump_items", f"{op}-{i}", b, [final], rng, text="\n".join(lines) + "\n")
+        c.expect |= {2} if op == "no-space" else set()
+        return c
+    if op == "lowercase-prefix":
+        i = rng.choice([0, 2, 4, 8])
+        lines[i] = lines[i].replace("ITEM:", rng.choice(["item:", "Item:", "ITEM ", "ITEMS:"]))
+        return dcase("dump_items", f"{op}-{i}", b, "\n".join(lines) + "\n", fh, (2,), rng)
+    if op.startswith("box"):
+        ok = True
+        if op == "box-no-flags":
+            final.box[0] = "ITEM: BOX BOUNDS"
+        elif op == "box-triclinic":
+            final.box = ["ITEM: BOX BOUNDS xy xz yz pp pp pp", f"0 {b.length!r} 0.5", "0 1 0", "0 0 0"]
+        elif op == "box-nan":
+            final.box[rng.randint(1, 3)] = rng.choice(["nan nan", "inf -inf", "1e400 0"])
+        elif op == "box-suffix":
+            final.box[0] = "ITEM: BOX BOUNDSxyz"
+        elif op == "box-missing":
+            final.box = []
+        else:
+            ok = False
+            if op == "box-one-number":
+                final.box[rng.randint(1, 3)] = "0"
+            elif op == "box-text":
+                final.box[rng.randint(1, 3)] = "0 abc"
+            else:
+                del final.box[rng.randint(1, 3)]
+        if not ok:
+            return dcase("dump_items", op, b, dump_text([final]), fh, (2,), rng)
+        c = judged_case("dump_items", op, b, [final], rng)
+        if op not in ("box-no-flags", "box-triclinic"):
+            c.expect |= {2}
+        return c
+    text = dump_text([final]).replace("ITEM: ATOMS " + " ".join(fh), "ITEM: ATOMS\t" + "\t".join(fh))
+    return judged_case("dump_items", op, b, [final], rng, text=text)
+
+
+def fam_dump_whitespace(rng, b):
+    final = make_block(b)
+    fh = final.header
+    text = dump_text([final])
+    op = rng.choice(["crlf", "mixed-crlf", "tabs", "multi-space", "trailing-space", "leading-space", "vt-ff",
+                     "nbsp", "ideographic", "cr-only", "bom", "nul-in-row", "invalid-utf8", "no-final-newline",
+                     "cr-cr-lf", "ff-line", "u2028-line", "nel-line"])
+    maybe = False
+    if op == "crlf":
+        text = text.replace("\n", "\r\n")
+    elif op == "mixed-crlf":
+        text = "".join(l + rng.choice(["\n", "\r\n"]) for l in text.split("\n")[:-1])
+    elif op == "tabs":
+        text = text.replace(" ", "\t").replace("ITEM:\t", "ITEM: ").replace("NUMBER\tOF\tATOMS", "NUMBER OF ATOMS") \
+            .replace("BOX\tBOUNDS", "BOX BOUNDS")
+    elif op == "multi-space":
+        text = "\n".join(l if l.startswith("ITEM") else l.replace(" ", "   ") for l in text.split("\n"))
+    elif op == "trailing-space":
+        text = text.replace("\n", " \t \n")
+    elif op == "leading-space":
+        text = "\n".join("  " + l if l and not l.startswith("ITEM") else l for l in text.split("\n"))
+    elif op in ("vt-ff", "nbsp", "ideographic"):
+        sep = {"vt-ff": rng.choice(["\x0b", "\x0c"]), "nbsp": "\u00a0", "ideographic": "\u3000"}[op]
+        text = "\n".join(l if l.startswith("ITEM") else l.replace(" ", sep) for l in text.split("\n"))
+        maybe = True
+    elif op == "cr-only":
+        text = text.replace("\n", "\r")
+        return dcase("dump_whitespace", op, b, text, fh, (2,), rng)
+    elif op == "bom":
+        c = judged_case("dump_whitespace", op, b, [final], rng, text="\ufeff" + text)
+        c.expect |= {2}
+        return c
+    elif op == "nul-in-row":
+        lines = text.split("\n")
+        i = rng.randrange(9, 9 + b.n)
+        lines[i] = lines[i].replace(" ", "\x00", 1) if rng.random() < 0.5 else lines[i] + "\x00"
+        return dcase("dump_whitespace", op, b, "\n".join(lines), fh, (2,), rng)
+    elif op == "invalid-utf8":
+        raw = text.encode()
+        at = rng.randrange(len(raw))
+        raw = raw[:at] + rng.choice([b"\xff", b"\xc3\x28", b"\xe2\x82", b"\x80"]) + raw[at:]
+        return dcase("dump_whitespace", op, b, raw, fh, (2,), rng)
+    elif op == "no-final-newline":
+        text = text.rstrip("\n")
+    elif op == "cr-cr-lf":
+        text = text.replace("\n", "\r\r\n")
+    elif op in ("ff-line", "u2028-line", "nel-line"):
+        lines = text.split("\n")
+        lines.insert(rng.randrange(1, len(lines)), {"ff-line": "\x0c", "u2028-line": "\u2028",
+                                                    "nel-line": "\x85"}[op])
+        text = "\n".join(lines)
+        maybe = op != "ff-line"
+    c = judged_case("dump_whitespace", op, b, [final], rng, text=text)
+    if maybe:
+        c.expect |= {2}
+    return c
+
+
+def fam_dump_ids(rng, b):
+    n = b.n
+    op = rng.choice(["zero-based", "one-zero", "one-negative", "one-fractional", "float-format", "dup",
+                     "out-of-range", "shifted", "permuted-consistent", "permuted-inconsistent",
+                     "permuted-inconsistent-no-x0", "permuted-inconsistent-match-x0", "no-id-no-x0",
+                     "no-id-no-x0-order", "match-id-without-id", "karamelo-order", "karamelo-order-x0",
+                     "scaled", "id-last"])
+    header, order, ids, match, extra = list(b.header), None, None, "auto", []
+    base_ids = list(range(1, n + 1))
+    if op == "zero-based":
+        ids = [i - 1 for i in base_ids]
+    elif op in ("one-zero", "one-negative", "one-fractional", "out-of-range", "dup"):
+        ids = list(base_ids)
+        j = rng.randrange(n)
+        ids[j] = {"one-zero": 0, "one-negative": rng.choice([-1, -5, -(2 ** 31)]),
+                  "one-fractional": ids[j] + rng.choice([0.5, 1e-9, -0.25]),
+                  "out-of-range": rng.choice([n + 1, n + 5, 10 ** 6, 1e300, 2 ** 53 + 1, 2 ** 64]),
+                  "dup": ids[(j + rng.randrange(1, n)) % n]}[op]
+    elif op == "float-format":
+        ids = [rng.choice([f"{i}.0", f"{i}e0", f"{i}.", f"+{i}", f"{i}.000", f"0{i}"]) for i in base_ids]
+    elif op == "shifted":
+        ids = [i + 1 for i in base_ids]
+    elif op == "permuted-consistent":
+        order = list(range(n))
+        rng.shuffle(order)
+    elif op.startswith("permuted-inconsistent"):
+        ids = list(base_ids)
+        while ids == base_ids:
+            rng.shuffle(ids)
+        if op.endswith("no-x0"):
+            header = [h for h in header if h not in ("x0", "y0")]
+        if op.endswith("match-x0"):
+            match = "x0"
+    elif op.startswith("no-id-no-x0"):
+        header = [h for h in header if h not in ("id", "x0", "y0")]
+        if op.endswith("order"):
+            match = "order"
+            if rng.random() < 0.5:
+                order = list(range(n))
+                rng.shuffle(order)
+    elif op == "match-id-without-id":
+        header.remove("id")
+        match = "id"
+    elif op.startswith("karamelo-order"):
+        order, ids = karamelo_order(b), list(base_ids)
+        if op.endswith("x0"):
+            match = "x0"
+    elif op == "scaled":
+        ids = [i * rng.choice([2, 10, 1000]) for i in base_ids]
+    else:
+        header = [h for h in header if h != "id"] + ["id"]
+    blk = make_block(b, header=header, order=order, ids=ids)
+    if op == "float-format":
+        for r, t in zip(blk.rows, ids):
+            r[header.index("id")] = t
+    if op == "match-id-without-id":
+        return dcase("dump_ids", op, b, dump_text([blk]), header, (2,), rng, extra=["--match", "id"])
+    valid = all(rust_float(r[header.index("id")]) is not None for r in blk.rows) if "id" in header else True
+    return judged_case("dump_ids", op, b, [blk], rng, match=match) if valid else \
+        dcase("dump_ids", op, b, dump_text([blk]), header, (2,), rng)
+
+
+def fam_dump_perturb(rng, b):
+    blk = make_block(b)
+    header = blk.header
+    op = rng.choice(["value", "value", "value", "position", "position", "column-scaled", "precision",
+                     "swap-mapping", "row-copied", "translate"])
+    colmap, variant = None, op
+    phys = ["vx", "s11"] + (["vy", "s22", "s12"] if b.two_d else [])
+    pos = ["x", "x0"] + (["y", "y0"] if b.two_d else [])
+    values = dump_values(b, b.run)
+    if op == "value":
+        col = rng.choice(phys)
+        c = header.index(col)
+        column = [v[col] for v in values]
+        i, _ = big_entry(rng, column) or (rng.randrange(b.n), None)
+        d = rng.choice([1e-3, 1e-6, 1e-8, 3e-9, 1e-10, 1e-13, 1e-15]) * rng.choice([1, -1])
+        blk.rows[i][c] = repr(column[i] * (1 + d))
+        variant = f"value-{col}-{abs(d):g}"
+    elif op == "position":
+        col = rng.choice(pos)
+        c = header.index(col)
+        axis = "x" if col in ("x", "x0") else "y"
+        umax = max(abs(v[axis] - v[axis + "0"]) for v in values)
+        i = rng.randrange(b.n)
+        d = rng.choice([1e-3, 1e-6, 1e-8, 1e-10, 1e-12, 1e-15]) * rng.choice([1, -1])
+        blk.rows[i][c] = repr(values[i][col] + d * umax)
+        variant = f"position-{col}-{abs(d):g}·max|u|"
+    elif op == "column-scaled":
+        col = rng.choice(phys + pos)
+        c = header.index(col)
+        f = rng.choice([1e-3, 1e3, -1.0, 1 + 1e-7, 1 + 1e-12, 1 - 1e-11])
+        for r, v in zip(blk.rows, values):
+            r[c] = repr(v[col] * f)
+        variant = f"column-scaled-{col}-{f:g}"
+    elif op == "precision":
+        style = rng.choice(["%.6g", "%.9g", "%.12g", "%.15g", "%.16g"])
+        blk = make_block(b, style=style)
+        variant = f"precision-{style}"
+    elif op == "swap-mapping":
+        a, c2 = rng.sample(phys, 2)
+        colmap = dict(b.map)
+        colmap[a], colmap[c2] = b.map[c2], b.map[a]
+        variant = f"swap-mapping-{a}-{c2}"
+    elif op == "row-copied":
+        i, j = rng.sample(range(b.n), 2)
+        for col in phys + (["x", "y"] if b.two_d else ["x"]):
+            blk.rows[i][header.index(col)] = blk.rows[j][header.index(col)]
+    else:
+        d = rng.choice([1e-15, 1e-12, 1e-9, 1e-6, 1e-3]) * b.length
+        for col in pos:
+            c = header.index(col)
+            for r, v in zip(blk.rows, values):
+                r[c] = repr(v[col] + d)
+        variant = f"translate-{d / b.length:g}L"
+    return judged_case("dump_perturb", variant, b, [blk], rng, colmap=colmap)
+
+
+def fam_dump_format(rng, b):
+    blk = make_block(b)
+    fh = blk.header
+    text = dump_text([blk])
+    op = rng.choice(["format-csv", "format-json", "dump-on-csv", "dump-on-json", "dump-step-on-csv",
+                     "dump-step-on-json", "dump-step-value", "dump-step-value", "auto-leading-blank",
+                     "csv-header-item"])
+    csv = ",".join(b.map.get(h, h) for h in fh if h != "type") + "\n" + "".join(
+        ",".join(r[k] for k, h in enumerate(fh) if h != "type") + "\n" for r in blk.rows)
+    if op in ("format-csv", "format-json"):
+        return dcase("dump_format", op, b, text, fh, (2,), rng, extra=["--format", op.split("-")[1]])
+    if op == "dump-on-csv":
+        return dcase("dump_format", op, b, csv, fh, (2,), rng, extra=["--format", "lammps-dump"], columns=False)
+    if op == "dump-on-json":
+        return dcase("dump_format", op, b, b.run_text, fh, (2,), rng, extra=["--format", "lammps-dump"],
+                     columns=False)
+    if op in ("dump-step-on-csv", "dump-step-on-json"):
+        t = csv if op.endswith("csv") else b.run_text
+        return dcase("dump_format", op, b, t, fh, (2,), rng, extra=["--dump-step", str(b.steps)], columns=False)
+    if op == "dump-step-value":
+        tok = rng.choice(["-1", "1.5", "", "0x14", "18446744073709551616", "abc", f"+{b.steps}", f"0{b.steps}",
+                          f"{b.steps}.0", f"{b.steps}e0", f" {b.steps}", str(b.steps), "-0"])
+        extra = [f"--dump-step={tok}"] if rng.random() < 0.5 else ["--dump-step", tok]
+        if tok.startswith("-") and len(extra) == 2:
+            extra = [f"--dump-step={tok}"]
+        v = rust_u64(tok) if U64_RE.fullmatch(tok) else None
+        if v == b.steps:
+            c = judged_case("dump_format", "dump-step-" + ("plus" if tok.startswith("+") else "same"), b, [blk],
+                            rng, extra=extra)
+            if tok != str(b.steps):  # "+20", "020": a refusal is fine as well
+                c.expect |= {2}
+            return c
+        return dcase("dump_format", "dump-step-bad", b, text, fh, (2,), rng, extra=extra)
+    if op == "auto-leading-blank":
+        return judged_case("dump_format", op, b, [blk], rng, text=rng.choice(["\n\n", "   \n", " \t\n\n  "]) + text)
+    return dcase("dump_format", op, b, "ITEM: " + csv, fh, (2,), rng, columns=False)
+
+
+def random_flags(rng, b, p=0.35):
+    if not b.two_d:
+        pool = {k: v for k, v in CONVENTION_FLAGS.items() if k not in ("--knots", "--gradient", "--solution")}
+        if rng.random() < 0.1:  # 2D-only values, refused in 1D
+            pool = CONVENTION_FLAGS
+    else:
+        pool = CONVENTION_FLAGS
+    flags = []
+    if b.name == "dump-2d-bsmpm" and rng.random() < 0.3:
+        flags = list(TAICHI)
+    for k, vals in pool.items():
+        if k not in flags and rng.random() < p:
+            flags += [k, rng.choice(vals)]
+    return flags
+
+
+def valid_flags(rng, b):
+    for _ in range(40):
+        f = random_flags(rng, b)
+        if b.run_json(f) is not None:
+            return f
+    return []
+
+
+def neighbour_flags(rng, b, a):
+    """`a` with one flag changed, added or removed."""
+    pairs = [a[i:i + 2] for i in range(0, len(a), 2)]
+    keys = [p[0] for p in pairs]
+    choice = rng.random()
+    if pairs and choice < 0.3:
+        del pairs[rng.randrange(len(pairs))]
+    elif pairs and choice < 0.7:
+        i = rng.randrange(len(pairs))
+        pairs[i] = [pairs[i][0], rng.choice([v for v in CONVENTION_FLAGS[pairs[i][0]] if v != pairs[i][1]])]
+    else:
+        k = rng.choice([k for k in CONVENTION_FLAGS if k not in keys] or list(CONVENTION_FLAGS))
+        pairs.append([k, rng.choice(CONVENTION_FLAGS[k])])
+    return [x for p in pairs for x in p]
+
+
+def same_flags(rng, b, a):
+    """`a` reordered, with a default spelled out."""
+    pairs = [a[i:i + 2] for i in range(0, len(a), 2)]
+    rng.shuffle(pairs)
+    keys = {p[0] for p in pairs}
+    if rng.random() < 0.5:
+        if "--body-force" not in keys:
+            pairs.append(["--body-force", "particles"])
+        elif "--transfer" not in keys:
+            pairs.append(["--transfer", "flip"])
+    return [x for p in pairs for x in p]
+
+
+def pick_flags(rng, b):
+    a = valid_flags(rng, b)
+    r = rng.random()
+    if r < 0.25:
+        return a, same_flags(rng, b, a), "same"
+    if r < 0.65:
+        return a, neighbour_flags(rng, b, a), "one-changed"
+    return a, random_flags(rng, b), "random"
+
+
+def fam_dump_flags(rng, b):
+    """A dump of a run with flags A, checked with flags B."""
+    a, bf, how = pick_flags(rng, b)
+    run_a, run_b = b.run_json(a), b.run_json(bf)
+    header = list(b.header) if rng.random() < 0.7 else [h for h in b.header if h != "type"]
+    blk = make_block(b, run=run_a, header=header)
+    if run_b is None:
+        c = dcase("dump_flags", f"{how}-B-invalid", b, dump_text([blk]), header, (2,), rng, extra=bf)
+    else:
+        differ = sorted(k for k, v in b.conventions(run_a).items() if b.conventions(run_b).get(k) != v)
+        variant = f"{how}-conv-{'same' if not differ else 'differ'}"
+        c = judged_case("dump_flags", variant, b, [blk], rng, extra=bf, ref=run_b)
+    c.flags_a = a
+    return c
+
+
+def fam_dump_json_flags(rng, b):
+    """hompm's run JSON (or trace JSON) with flags A, checked with flags B:
+    refused when their conventions differ."""
+    a, bf, how = pick_flags(rng, b)
+    run_a, run_b = b.run_json(a), b.run_json(bf)
+    kind = "trace" if rng.random() < 0.3 else "run"
+    code, text, _ = b.output(kind, a)
+    if run_b is None:
+        c = Case("dump_json_flags", f"{kind}-{how}-B-invalid", b, text, "json", bf, (2,),
+                 json_report=rng.random() < 0.25)
+        c.flags_a = a
+        return c
+    conv_a, conv_b = b.conventions(run_a), b.conventions(run_b)
+    differ = sorted(k for k, v in conv_a.items() if conv_b.get(k) != v)
+    physically_same = judge(b, run_b, ours_of(b, run_a)) < 0.25
+    if not differ:
+        expect = (0,) if physically_same or kind == "trace" else (0, 1)
+        c = Case("dump_json_flags", f"{kind}-{how}-conv-same", b, text, "json", bf, expect,
+                 json_report=rng.random() < 0.25)
+    else:
+        doc = json.loads(text)
+        if kind == "run":
+            named = doc.get("conventions")
+            solution = doc.get("params", {}).get("solution")
+        else:
+            h = doc.get("header", {})
+            named = h.get("conventions") or h.get("discretisation", {}).get("conventions")
+            solution = h.get("scene", {}).get("solution") if isinstance(h.get("scene"), dict) else None
+        named_keys = set(named or {}) | ({"solution"} if solution else set())
+        where = "named" if set(differ) <= named_keys else "unnamed"
+        c = Case("dump_json_flags", f"{kind}-differ-{'+'.join(differ)}-{where}", b, text, "json", bf, (2,),
+                 json_report=rng.random() < 0.25)
+        c.agree_ok = physically_same
+    c.flags_a = a
+    return c
+
+
+_dump_wide_lock = threading.Lock()
+
+
+def fam_dump_huge(rng, b, workdir):
+    op = rng.choice(["many-blocks", "many-blocks", "many-blocks-dup", "count-huge", "long-token", "many-columns",
+                     "many-rows", "stream", "stream"])
+    if op == "stream":
+        source = rng.choice(["fifo", "fifo", "stdin-pipe", "dash-pipe"])
+        content = rng.choice(["dump-rows", "dump-blocks"])
+        limit = rng.choice([None, "16MiB", "64MiB", "256MiB"])
+        c = Case("dump_huge", f"stream-{source}-{content}-{limit or 'default'}", b, None, "", expect=(2,),
+                 stream={"source": source, "content": content})
+        c.pre = ["--max-memory", limit] if limit else []
+        return c
+    if op in ("many-blocks", "many-blocks-dup"):
+        k = rng.choice([1000, 10_000, 50_000, 100_000, 200_000, 400_000])
+        key = f"{b.name}-{op}-{k}"
+        path = os.path.join(workdir, "wide", key + ".dump")
+        final = make_block(b)
+        with _dump_wide_lock:
+            if not os.path.exists(path):
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                with open(path + ".tmp", "w") as f:
+                    for t in range(k):
+                        f.write(f"ITEM: TIMESTEP\n{10 ** 6 + t}\nITEM: NUMBER OF ATOMS\n0\nITEM: ATOMS id x\n")
+                    if op == "many-blocks-dup":
+                        final.timestep = str(10 ** 6)
+                    f.write(dump_text([final]))
+                os.rename(path + ".tmp", path)
+        expect, ok0 = ((2,), False) if op == "many-blocks-dup" else oracle(b, b.run, final.header, final.rows)
+        c = Case("dump_huge", f"{op}-{k}", b, None, "dump", dump_columns(b, final.header), expect, input_path=path)
+        c.agree_ok = ok0
+        return c
+    final = make_block(b)
+    fh = final.header
+    if op == "count-huge":
+        final.natoms = str(rng.choice([10 ** 18, 2 ** 64 - 1, 10 ** 12]))
+        return dcase("dump_huge", op, b, dump_text([final]), fh, (2,), rng)
+    if op == "long-token":
+        n = rng.choice([10 ** 5, 10 ** 6, 10 ** 7])
+        c = fh.index(rng.choice(["vx", "s11"]))
+        i = rng.randrange(b.n)
+        form = rng.choice(["ones", "zeros-then-one", "trailing-zeros"])
+        tok = {"ones": "1" * n, "zeros-then-one": "0." + "0" * n + "1",
+               "trailing-zeros": (final.rows[i][c] if "e" not in final.rows[i][c] else "0.5") + "0" * n}[form]
+        final.rows[i][c] = tok
+        v = float(tok) if form != "ones" else math.inf
+        if not math.isfinite(v):
+            return dcase("dump_huge", f"{op}-{form}-{n}", b, dump_text([final]), fh, (2,), rng)
+        rows = [list(r) for r in final.rows]
+        rows[i][c] = repr(v)
+        expect, ok0 = oracle(b, b.run, fh, rows)
+        return dcase("dump_huge", f"{op}-{form}-{n}", b, dump_text([final]), fh, expect, rng, agree_ok=ok0)
+    if op == "many-columns":
+        k = rng.choice([1000, 100_000])
+        names = [f"c{j}" for j in range(k)]
+        final.header = fh + names
+        pad = ["0"] * k
+        for r in final.rows:
+            r.extend(pad)
+        ragged = rng.random() < 0.3
+        if ragged:
+            final.rows[rng.randrange(b.n)].pop()
+            return dcase("dump_huge", f"{op}-{k}-ragged", b, dump_text([final]), fh, (2,), rng)
+        return judged_case("dump_huge", f"{op}-{k}", b, [final], rng, header_for_columns=fh)
+    k = rng.choice([10 ** 4, 10 ** 5, 3 * 10 ** 5])
+    row = " ".join(final.rows[0])
+    text = (f"ITEM: TIMESTEP\n{b.steps}\nITEM: NUMBER OF ATOMS\n{k}\n" + "\n".join(box_lines(b)) +
+            "\nITEM: ATOMS " + " ".join(fh) + "\n" + (row + "\n") * k)
+    return dcase("dump_huge", f"{op}-{k}", b, text, fh, (2,), rng)
+
+
+def dump_stream_chunks(kind):
+    if kind == "dump-rows":
+        return (b"ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1000000000000\nITEM: ATOMS id x vx s11\n",
+                b"1 0.5 0.25 0.125\n" * (1 << 16))
+    block = b"ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x\n1 0.5\n"
+    return b"", block * max(1, (1 << 20) // len(block))
+
+
+
 # --- running ---------------------------------------------------------------
 
 def stream_chunks(kind, b, rng):
     """An endless stream: (prefix bytes, chunk repeated for ever)."""
+    if kind.startswith("dump-"):
+        return dump_stream_chunks(kind)
     if kind == "zeros":
         return b"", b"\0" * (1 << 20)
     if kind == "ones":
@@ -862,7 +2082,8 @@ def run_case(binary, index, case, workdir, memory, seconds, seed):
         input_path = case.input_path
     else:
         input_path, own = f"{stem}.{case.ext}", True
-        with open(input_path, "w") as f:
+        binary_text = isinstance(case.text, bytes)
+        with open(input_path, "wb" if binary_text else "w", **({} if binary_text else {"encoding": "utf-8"})) as f:
             f.write(case.text)
     cmd = command(binary, case, input_path, memory, seconds)
     with open(stem + ".out", "wb") as out, open(stem + ".err", "wb") as err:
@@ -919,7 +2140,9 @@ def classify(case, code, out, err):
         return "unbounded read", "read up to the memory cap"
     if code == 101 or "panicked" in err or code < 0 or code >= 128:
         return "panic", f"exit {code}"
-    if code == 0 and case.family != "control":
+    if code == 0 and case.family != "control" and 0 not in case.expect:
+        if getattr(case, "agree_ok", False):  # the values do agree; the file should have been refused
+            return "wrong exit code", f"exit 0 (the values agree within the tolerance), expected {sorted(case.expect)}"
         return "false agrees", ""
     m = NONFINITE.search(out)
     if m:
@@ -933,14 +2156,23 @@ def classify(case, code, out, err):
         if bad:
             return "silent NaN/inf", "null/non-finite at " + ", ".join(bad[:5])
     if code == 2 and len(lines) > 1:
-        return "multi-line error", f"{len(lines)} lines"
+        newlines = len([l for l in err.split("\n") if l.strip()])
+        return "multi-line error", f"{len(lines)} lines" + (
+            "" if newlines > 1 else " (one by \\n: split at U+2028/U+2029/U+0085 or another Unicode line break)")
     if code not in case.expect:
         return "wrong exit code", f"exit {code}, expected {sorted(case.expect)}"
     return "ok", ""
 
 
-def generate(index, family, seed, bases, workdir):
+def generate(index, family, seed, bases, workdir, dbases=None):
     rng = random.Random(f"{seed}-{index}")
+    if family.startswith("dump_"):
+        b = rng.choice(list(dbases.values()))
+        if family == "dump_huge":
+            return fam_dump_huge(rng, b, workdir)
+        if family in ("dump_flags", "dump_json_flags") and rng.random() < 0.4:
+            b = dbases["dump-2d-bsmpm"]
+        return globals()["fam_" + family](rng, b)
     pool = list(bases.values())
     b = rng.choice(pool)
     if family == "column_counts":
@@ -972,16 +2204,35 @@ def main():
     ap.add_argument("--families", help="run only these families (comma-separated)")
     ap.add_argument("--keep", action="store_true", help="keep every input, not only those not ok")
     ap.add_argument("--log", help="write one JSON line per case (family, variant, class, exit, stderr) here")
+    ap.add_argument("--kind", choices=["classic", "dump", "all"], default="classic",
+                    help="classic: issue #35's families (CSV/JSON/trace); dump: LAMMPS-style dump files and the "
+                         "convention flags (issue #36); all: both")
+    ap.add_argument("--repro-all", action="store_true",
+                    help="with --repro-dir, copy every input that is not ok (wrong exit codes and multi-line errors too)")
     a = ap.parse_args()
     binary = os.path.abspath(a.binary)
     started = time.monotonic()
     workdir = os.path.abspath(a.workdir or tempfile.mkdtemp(prefix="fuzz-check-", dir="/tmp"))
     os.makedirs(os.path.join(workdir, "cases"), exist_ok=True)
     os.makedirs(os.path.join(workdir, "kept"), exist_ok=True)
-    bases = {name: Base(name, os.path.abspath(a.base_binary or a.binary)) for name in SETUPS}
-    # Families: the control gets 1/16 of the count, the ten others share the rest.
-    control = max(1, a.count // 16)
-    plan = ["control"] * control + [FAMILIES[k % len(FAMILIES)] for k in range(a.count - control)]
+    base_binary = os.path.abspath(a.base_binary or a.binary)
+    bases = {name: Base(name, base_binary) for name in SETUPS} if a.kind != "dump" else {}
+    dbases = {name: DumpBase(name, base_binary) for name in DUMP_SETUPS} if a.kind != "classic" else {}
+    if a.kind == "classic":
+        # Families: the control gets 1/16 of the count, the ten others share the rest.
+        control = max(1, a.count // 16)
+        plan = ["control"] * control + [FAMILIES[k % len(FAMILIES)] for k in range(a.count - control)]
+        families = ["control"] + FAMILIES
+    elif a.kind == "dump":
+        control = max(1, a.count // 10)
+        plan = ["dump_control"] * control + [DUMP_FAMILIES[k % len(DUMP_FAMILIES)] for k in range(a.count - control)]
+        families = ["dump_control"] + DUMP_FAMILIES
+    else:
+        control = max(1, a.count // 16)
+        both = FAMILIES + DUMP_FAMILIES
+        plan = (["control"] * control + ["dump_control"] * control
+                + [both[k % len(both)] for k in range(a.count - 2 * control)])
+        families = ["control"] + FAMILIES + ["dump_control"] + DUMP_FAMILIES
     random.Random(a.seed).shuffle(plan)
     chosen = range(a.count)
     if a.cases:
@@ -989,7 +2240,7 @@ def main():
     if a.families:
         keep = set(a.families.split(","))
         chosen = [i for i in chosen if plan[i] in keep]
-    cases = [(i, generate(i, plan[i], a.seed, bases, workdir)) for i in chosen]
+    cases = [(i, generate(i, plan[i], a.seed, bases, workdir, dbases)) for i in chosen]
 
     counts = collections.defaultdict(collections.Counter)
     examples, variants = {}, collections.defaultdict(collections.Counter)
@@ -1009,6 +2260,7 @@ def main():
             if log:
                 log.write(json.dumps({"case": i, "family": case.family, "variant": case.variant, "class": cls,
                                       "why": why, "exit": code, "extra": case.extra, "json": case.json_report,
+                                      "expect": sorted(case.expect), "flags_a": getattr(case, "flags_a", None),
                                       "stderr": err.strip().splitlines()[:3]}) + "\n")
             if cls != "ok":
                 variants[(case.family, cls)][case.variant] += 1
@@ -1018,7 +2270,7 @@ def main():
                     cmd, input_path = [dest if x == input_path else x for x in cmd], dest
             if own and not a.keep:
                 os.remove(written)
-            if cls in SERIOUS and a.repro_dir:
+            if a.repro_dir and (cls in SERIOUS or (a.repro_all and cls != "ok")):
                 os.makedirs(a.repro_dir, exist_ok=True)
                 name = f"{case.family}-{i:05d}"
                 if not case.stream:
@@ -1029,10 +2281,15 @@ def main():
                     f.write(shell(cmd) + "\n")
                     if case.stream:
                         f.write(f"# stream: {json.dumps(case.stream)}\n")
+                    if getattr(case, "flags_a", None) is not None:
+                        f.write(f"# the input is hompm's own output: hompm run {' '.join(case.base.setup)} "
+                                f"{' '.join(case.flags_a)} --json (a dump of it, or itself)\n")
+                    f.write(f"# family {case.family}, variant {case.variant}, expected exit {sorted(case.expect)}\n")
                     f.write(f"# exit {code}; {why}\n# stderr: {err.strip()[:2000]}\n")
             if cls != "ok":
                 kept.append({"case": i, "family": case.family, "variant": case.variant, "class": cls, "why": why,
-                             "exit": code, "command": shell(cmd), "stream": case.stream,
+                             "exit": code, "expect": sorted(case.expect), "flags_a": getattr(case, "flags_a", None),
+                             "command": shell(cmd), "stream": case.stream,
                              "stderr": err.strip().splitlines()[:3]})
             examples.setdefault((case.family, cls), {
                 "case": i, "variant": case.variant, "exit": code, "why": why, "command": shell(cmd),
@@ -1040,7 +2297,7 @@ def main():
 
     shutil.rmtree(os.path.join(workdir, "wide"), ignore_errors=True)
     elapsed = time.monotonic() - started
-    families = ["control"] + FAMILIES
+    bases = {**bases, **dbases}
     total = collections.Counter()
     for f in families:
         total.update(counts[f])

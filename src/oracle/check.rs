@@ -484,7 +484,7 @@ fn verdict(r: &CheckReport) -> String {
     if !r.derived_columns.is_empty() {
         let floor = r.fields.get("u").map_or(0.0, |f| f.atol_abs);
         lines.push(format!(
-            "derived from your columns: {} (compared as hompm's; differences below {} absolute, 4√n·ε·max|x| for the rounding your positions gather over n steps, are not visible: write u to see them)",
+            "derived from your columns: {} (compared as hompm's; differences below {} absolute, 4√n·ε·max|x| for the rounding your positions gather over n steps, are not visible; a u accumulated apart from x would show them)",
             list(&r.derived_columns),
             sci(floor, 1)
         ));
