@@ -34,6 +34,33 @@ NaN/inf and unbounded reads are copied there with their command line.
 
     scripts/fuzz_check.py [--binary target/release/hompm] [--count 3200] [--seed 1] [--jobs 2] [--out counts.json]
 
+`--kind dump` (issue #36; `--kind all` mixes both) writes hompm's own runs
+(`run vibrating-bar --cells 4 --steps 20`, `run aligned-vibration --method
+mpm --cells 2 --ppc 4 --steps 3`, and the same with bsmpm of degree 2 on 4
+cells for Taichi's flags) as LAMMPS-style dump files the way Karamelo
+writes them (ids from 1; `id type x0 x vx s11` in 1D, `id type x0 y0 x y vx
+vy s11 s22 s12` in 2D; checked with `--columns v=vx,stress=s11` or the 2D
+mapping) and mutates them. Where a mutated file is still well-formed, the
+expected exit is the tolerance rule of docs/oracle.md applied here to the
+values the file holds (`judge`): 1 beyond 4× the tolerance, 0 below a
+quarter of it, either in between.
+
+| family | what is mutated | exit expected |
+|---|---|---|
+| dump_control | nothing, or what must not matter: no type/x/x0/id column, u written, rows or columns shuffled, an earlier block, TIME/UNITS, a triclinic box, CRLF, tabs, blank lines, --format lammps-dump, --match x0, Karamelo's y-fastest order, zero z columns | 0 |
+| dump_structure | a row or an ITEM/value line dropped or doubled, a section twice, adjacent lines swapped, sections moved, the file cut at a byte, blank, comment or garbage lines | 2 (0 or 1 where the file stays well-formed) |
+| dump_counts | NUMBER OF ATOMS or TIMESTEP of another, huge, negative, fractional or non-numeric value; rows and count both changed | 2 (0 for another spelling of the same count) |
+| dump_numbers | nan, inf, 1e400, hex, empty, Unicode digits or separators, control characters in a cell; or another valid spelling (-0, 1e-400, %.6g) | 2 (0/1 for valid spellings) |
+| dump_blocks | a timestep twice, a later or earlier block, --dump-step of each or of none, empty blocks, blocks of other columns, many blocks, ATOMS without columns or with a name twice | 2, or the chosen block's verdict |
+| dump_items | unknown ITEM lines, TIME/UNITS, ITEM: without a space or lower-case, BOX BOUNDS variants | 2 (0 for what LAMMPS writes) |
+| dump_whitespace | CRLF, CR only, tabs, VT/FF/NBSP/U+3000 separators, BOM, NUL, invalid UTF-8, no final newline | 0 or 2 |
+| dump_ids | 0-based, zero, negative, fractional, twice, out of range, shifted by one, permuted with or against the rows and x0, none with --match order/id | 2 (0/1 where the match is right) |
+| dump_perturb | one value changed by 1e-3..1e-15 relative, a position by a fraction of max\|u\|, a column scaled, written to 6..16 digits, two columns swapped by --columns, a row copied, positions translated, a column under hompm's own name next to the mapped one | the judged verdict (2 for the name twice) |
+| dump_format | --format csv/json on a dump, --format lammps-dump or --dump-step on CSV/JSON, --dump-step spellings, leading blank lines, --convergence of three dumps | 2, 0 or 1 |
+| dump_flags | a dump of a run with convention flags A checked with flags B | the judged verdict against hompm's run with B; 2 when B is not a valid combination |
+| dump_json_flags | hompm's run JSON or trace JSON with flags A checked with flags B | 2 when the conventions differ (an exit 0 there is a wrong exit code, not a false agrees, if the values do agree), else 0 |
+| dump_huge | 1k..400k blocks before the last, a huge count, a 10^7-digit number, 100k columns, 300k rows, endless dumps on a FIFO or stdin | 0 or 2 |
+
 Every case is generated from its own seeded generator (seed, case number),
 so `--cases 17,204` reruns exactly those cases.
 """
@@ -789,7 +816,9 @@ def fam_streams(rng, b):
 DUMP_SETUPS = {
     "dump-1d": ["vibrating-bar", "--cells", "4", "--steps", "20"],
     "dump-2d": ["aligned-vibration", "--method", "mpm", "--cells", "2", "--ppc", "4", "--steps", "3"],
-    "dump-2d-bsmpm": ["aligned-vibration", "--method", "bsmpm", "--degree", "2", "--cells", "2", "--ppc", "4",
+    # 4 cells: on 2 cells the padded quadratic grid has one free node, which the
+    # symmetric motion leaves at rest (u = 0 with --knots padded).
+    "dump-2d-bsmpm": ["aligned-vibration", "--method", "bsmpm", "--degree", "2", "--cells", "4", "--ppc", "4",
                       "--steps", "3"],
 }
 DUMP_FAMILIES = ["dump_structure", "dump_counts", "dump_numbers", "dump_blocks", "dump_items", "dump_whitespace",
@@ -1133,7 +1162,7 @@ def earlier_run(b, rng):
 
 
 def fam_dump_control(rng, b):
-    kinds = ["plain", "no-type", "with-u", "no-x", "no-x0", "no-id", "rows-shuffled", "columns-shuffled",
+    kinds = ["plain", "no-type", "with-u", "no-x", "no-x0", "no-id", "rows-shuffled", "columns-shuffled", "karamelo-3d",
              "earlier-block", "earlier-block-step", "final-first-step", "time-units", "triclinic", "crlf", "tabs",
              "blank-lines", "trailing-space", "leading-blank", "format-flag", "match-x0", "karamelo-order-x0",
              "17g", "json-report"]
@@ -1162,6 +1191,11 @@ def fam_dump_control(rng, b):
         order, match = karamelo_order(b), "x0"
         ids = list(range(1, b.n + 1))
     final = make_block(b, header=header, order=order, ids=ids, style=style)
+    if kind == "karamelo-3d":  # the columns a 3D-capable code writes besides, all zero: not compared
+        more = ["z0", "z", "vz", "s33", "s13", "s23"] + ([] if b.two_d else ["y0", "y", "vy", "s22", "s12"])
+        final.header += more
+        for r in final.rows:
+            r.extend(["0"] * len(more))
     blocks = [final]
     if kind in ("earlier-block", "earlier-block-step", "final-first-step"):
         k, run = earlier_run(b, rng)
@@ -1706,7 +1740,7 @@ def fam_dump_perturb(rng, b):
     blk = make_block(b)
     header = blk.header
     op = rng.choice(["value", "value", "value", "position", "position", "column-scaled", "precision",
-                     "swap-mapping", "row-copied", "translate"])
+                     "swap-mapping", "row-copied", "translate", "shadowed"])
     colmap, variant = None, op
     phys = ["vx", "s11"] + (["vy", "s22", "s12"] if b.two_d else [])
     pos = ["x", "x0"] + (["y", "y0"] if b.two_d else [])
@@ -1748,6 +1782,17 @@ def fam_dump_perturb(rng, b):
         i, j = rng.sample(range(b.n), 2)
         for col in phys + (["x", "y"] if b.two_d else ["x"]):
             blk.rows[i][header.index(col)] = blk.rows[j][header.index(col)]
+    elif op == "shadowed":
+        # A column under hompm's own name next to the one --columns maps to it.
+        col = rng.choice(phys)
+        name = b.map[col]
+        same = rng.random() < 0.5
+        blk.header.append(name)
+        c = header.index(col)
+        for r in blk.rows:
+            r.append(r[c] if same else "123.5")
+        return dcase("dump_perturb", f"shadowed-{name}-{'same' if same else 'other'}", b, dump_text([blk]),
+                     header, (2,), rng)
     else:
         d = rng.choice([1e-15, 1e-12, 1e-9, 1e-6, 1e-3]) * b.length
         for col in pos:
@@ -1764,7 +1809,7 @@ def fam_dump_format(rng, b):
     text = dump_text([blk])
     op = rng.choice(["format-csv", "format-json", "dump-on-csv", "dump-on-json", "dump-step-on-csv",
                      "dump-step-on-json", "dump-step-value", "dump-step-value", "auto-leading-blank",
-                     "csv-header-item"])
+                     "csv-header-item", "convergence"])
     csv = ",".join(b.map.get(h, h) for h in fh if h != "type") + "\n" + "".join(
         ",".join(r[k] for k, h in enumerate(fh) if h != "type") + "\n" for r in blk.rows)
     if op in ("format-csv", "format-json"):
@@ -1791,6 +1836,19 @@ def fam_dump_format(rng, b):
                 c.expect |= {2}
             return c
         return dcase("dump_format", "dump-step-bad", b, text, fh, (2,), rng, extra=extra)
+    if op == "convergence":
+        # Three resolutions as dump files, --cells naming them: a verdict (0 or 1), never a panic.
+        i = b.setup.index("--cells")
+        files, cells = [], [2, 4, 8] if b.two_d else [4, 8, 16]
+        for k in cells:
+            s = list(b.setup)
+            s[i + 1] = str(k)
+            run = b.run_json([], s)
+            files.append(dump_text([make_block(b, run=run)]))
+        step = ["--dump-step", str(b.steps)] if rng.random() < 0.5 else []
+        c = dcase("dump_format", op, b, files[0], fh, (0, 1), rng, extra=step)
+        c.convergence = (files, cells)
+        return c
     if op == "auto-leading-blank":
         return judged_case("dump_format", op, b, [blk], rng, text=rng.choice(["\n\n", "   \n", " \t\n\n  "]) + text)
     return dcase("dump_format", op, b, "ITEM: " + csv, fh, (2,), rng, columns=False)
@@ -2085,7 +2143,21 @@ def run_case(binary, index, case, workdir, memory, seconds, seed):
         binary_text = isinstance(case.text, bytes)
         with open(input_path, "wb" if binary_text else "w", **({} if binary_text else {"encoding": "utf-8"})) as f:
             f.write(case.text)
-    cmd = command(binary, case, input_path, memory, seconds)
+    if getattr(case, "convergence", None):
+        files, cells = case.convergence
+        paths = [input_path]
+        for k, text in enumerate(files[1:], 1):
+            paths.append(f"{stem}-c{cells[k]}.{case.ext}")
+            with open(paths[-1], "w", encoding="utf-8") as f:
+                f.write(text)
+        cleanup.extend(paths[1:])
+        setup = list(case.base.setup)
+        setup[setup.index("--cells") + 1] = ",".join(map(str, cells))
+        cmd = ["prlimit", f"--as={memory}", "timeout", "-k", "5", str(seconds), binary, "check", *setup,
+               "--convergence", *paths, *case.extra] + (["--json"] if case.json_report else [])
+        input_path = paths[0]
+    else:
+        cmd = command(binary, case, input_path, memory, seconds)
     with open(stem + ".out", "wb") as out, open(stem + ".err", "wb") as err:
         p = subprocess.Popen(cmd, stdin=stdin, stdout=out, stderr=err, start_new_session=True)
         if stdin is subprocess.PIPE:
@@ -2282,8 +2354,9 @@ def main():
                     if case.stream:
                         f.write(f"# stream: {json.dumps(case.stream)}\n")
                     if getattr(case, "flags_a", None) is not None:
-                        f.write(f"# the input is hompm's own output: hompm run {' '.join(case.base.setup)} "
-                                f"{' '.join(case.flags_a)} --json (a dump of it, or itself)\n")
+                        f.write(f"# the input is hompm's own output with flags A: hompm run|trace "
+                                f"{' '.join(case.base.setup)} {' '.join(case.flags_a)} --json "
+                                f"(variant run-/trace-: that document; dump_flags: a dump of the run)\n")
                     f.write(f"# family {case.family}, variant {case.variant}, expected exit {sorted(case.expect)}\n")
                     f.write(f"# exit {code}; {why}\n# stderr: {err.strip()[:2000]}\n")
             if cls != "ok":

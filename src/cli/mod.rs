@@ -173,7 +173,9 @@ fn clap_outcome(e: clap::Error) -> Result<Output> {
 pub fn one_line(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
-        if c.is_control() {
+        // Control characters, and the Unicode line and paragraph
+        // separators a terminal also breaks at (U+2028, U+2029).
+        if c.is_control() || (c.is_whitespace() && c != ' ') {
             out.extend(c.escape_default());
         } else {
             out.push(c);

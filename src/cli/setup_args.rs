@@ -355,15 +355,23 @@ impl SetupArgs {
                 self.params.as_deref().unwrap_or("mls-paper-e1e7"),
                 &overrides,
             )?;
+            let method = self.aligned_method()?;
+            let conventions = self.conventions()?;
+            let (basis, mapping) = method.parts();
+            conventions.check_2d(
+                basis == crate::mpm2d::Basis2d::BSpline { degree: 2 },
+                mapping == crate::mpm2d::step::Mapping2d::Direct,
+                matches!(method, AlignedMethod::TotalLagrangian { .. }),
+            )?;
             return Ok(Setup::TwoD(Setup2d {
                 scene: params,
                 set_name,
-                method: self.aligned_method()?,
+                method,
                 cells,
                 per_side: per_side(self.ppc())?,
                 dt: self.dt,
                 steps: self.steps,
-                conventions: self.conventions()?,
+                conventions,
             }));
         }
         let method = self.method.method(self.degree, self.node_integrals)?;
@@ -371,6 +379,11 @@ impl SetupArgs {
         let mut discretisation =
             Discretisation::new(method, mapping, self.mass_matrix()?, cells, self.ppc());
         discretisation.conventions = self.conventions()?;
+        discretisation.conventions.check_1d(
+            discretisation.force_mapping == Mapping::Direct
+                && discretisation.velocity_mapping == Mapping::Direct
+                && discretisation.mass == MassMatrix::Lumped,
+        )?;
         let scene = match scene {
             SceneArg::VibratingBar => Scene1d::bar(
                 self.params.as_deref().unwrap_or("thesis-table-4.1"),

@@ -191,12 +191,11 @@ impl Simulation2d {
                 "the total-Lagrangian reference uses the direct mapping only".into(),
             ));
         }
-        check_conventions(&settings)?;
-        if settings.conventions.transfer == Transfer::Apic && grid.basis() == Basis2d::Bilinear {
-            return Err(Error::InvalidArgument(
-                "--transfer apic needs D_p = Σ N_i (x_i − x_p)² > 0, which bilinear functions lose at the nodes; use --method bsmpm".into(),
-            ));
-        }
+        settings.conventions.check_2d(
+            grid.basis() == Basis2d::BSpline { degree: 2 },
+            settings.mapping == Mapping2d::Direct,
+            settings.formulation == Formulation::TotalLagrangian,
+        )?;
         let reconstruction =
             settings
                 .mapping
@@ -350,30 +349,6 @@ impl Simulation2d {
         }
         Ok(())
     }
-}
-
-/// Refuses the conventions the 2D step does not have: USF (its stress
-/// update would have to come before phase 1), and anything but the paper's
-/// with the total-Lagrangian reference.
-fn check_conventions(settings: &Settings2d) -> Result<()> {
-    let c = settings.conventions;
-    c.validate()?;
-    if c.scheme == Scheme::Usf {
-        return Err(Error::InvalidArgument(
-            "--scheme usf is 1D only; the 2D step has musl and usl".into(),
-        ));
-    }
-    if c.is_two_d_only() && settings.mapping != Mapping2d::Direct {
-        return Err(Error::InvalidArgument(
-            "--transfer apic, --gradient affine and --knots padded run with the direct mapping (--method bsmpm)".into(),
-        ));
-    }
-    if settings.formulation == Formulation::TotalLagrangian && c != Conventions::MLS_PAPER {
-        return Err(Error::InvalidArgument(
-            "the total-Lagrangian reference runs with the MLS paper's conventions only".into(),
-        ));
-    }
-    Ok(())
 }
 
 /// `--body-force nodes`: f_i += m_i b(X_i, t) after phase 1, whose

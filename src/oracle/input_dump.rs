@@ -22,8 +22,9 @@
 //! atom count and its atoms, in that order; the count must match the rows;
 //! every row has one number per column; two blocks of one timestep are
 //! refused. The last block is used unless `--dump-step` names another
-//! (`hompm check`). LAMMPS numbers atoms from 1: the `id` column becomes
-//! hompm's 0-based id (id − 1). The other columns keep their names;
+//! (`hompm check`). LAMMPS numbers atoms from 1: an id below 1 is refused,
+//! and the matching reads ids 1..=n as 1-based (`oracle::state`), so ids
+//! that are not 1..=n are refused there. The other columns keep their names;
 //! `--columns v=vx,stress=s11` maps them (docs/oracle.md, "Recipes by
 //! code"). No maintained Rust crate reads this format on its own, so it is
 //! written here (docs/conventions.md, "Conventions of other codes").
@@ -37,8 +38,8 @@ use crate::error::{Error, Result};
 struct Block<'a> {
     timestep: u64,
     columns: Vec<&'a str>,
-    rows: Vec<&'a str>,
-    first_row_line: usize,
+    /// The rows with their line numbers in the file.
+    rows: Vec<(usize, &'a str)>,
 }
 
 /// Whether `text` reads as a dump file (its first non-blank line is an
@@ -79,6 +80,7 @@ fn blocks(text: &str) -> Result<Vec<Block<'_>>> {
         .filter(|(_, l)| !l.trim().is_empty())
         .peekable();
     let mut out: Vec<Block> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     let mut timestep: Option<u64> = None;
     let mut atoms: Option<u64> = None;
     while let Some((n, line)) = lines.next() {
@@ -95,6 +97,12 @@ fn blocks(text: &str) -> Result<Vec<Block<'_>>> {
             }
             timestep = Some(count_after(&mut lines, item, n)?);
         } else if item == "NUMBER OF ATOMS" {
+            if atoms.is_some() {
+                return Err(bad(
+                    n,
+                    "a second NUMBER OF ATOMS before the block's ATOMS".into(),
+                ));
+            }
             atoms = Some(count_after(&mut lines, item, n)?);
         } else if item == "TIME" || item == "UNITS" {
             if lines.next().is_none() {
@@ -122,15 +130,14 @@ fn blocks(text: &str) -> Result<Vec<Block<'_>>> {
             if columns.is_empty() {
                 return Err(bad(n, "ATOMS names no column".into()));
             }
-            if out.iter().any(|b| b.timestep == step) {
+            if !seen.insert(step) {
                 return Err(bad(n, format!("timestep {step} appears twice")));
             }
             let mut rows = Vec::new();
-            let first_row_line = lines.peek().map_or(n + 1, |(m, _)| *m);
             for _ in 0..count {
                 match lines.peek() {
                     Some((_, l)) if !l.trim_start().starts_with("ITEM:") => {
-                        rows.push(lines.next().map(|(_, l)| l).unwrap_or_default());
+                        rows.extend(lines.next());
                     }
                     _ => {
                         return Err(bad(
@@ -155,7 +162,6 @@ fn blocks(text: &str) -> Result<Vec<Block<'_>>> {
                 timestep: step,
                 columns,
                 rows,
-                first_row_line,
             });
         } else {
             return Err(bad(n, format!("unknown item 'ITEM: {}'", short(item))));
@@ -195,8 +201,7 @@ pub(crate) fn parse_dump(text: &str, step: Option<u64>) -> Result<Parsed> {
         )));
     }
     let mut values = vec![Vec::with_capacity(b.rows.len()); b.columns.len()];
-    for (r, row) in b.rows.iter().enumerate() {
-        let line = b.first_row_line + r;
+    for (r, &(line, row)) in b.rows.iter().enumerate() {
         let cells: Vec<&str> = row.split_whitespace().collect();
         if cells.len() != b.columns.len() {
             return Err(bad(
@@ -224,14 +229,13 @@ pub(crate) fn parse_dump(text: &str, step: Option<u64>) -> Result<Parsed> {
     }
     let mut table = TableBuilder::default();
     table.metadata("dump-timestep", b.timestep.to_string());
-    for (name, mut column) in b.columns.iter().zip(values) {
+    for (name, column) in b.columns.iter().zip(values) {
         if *name == "id" {
             if let Some(bad_id) = column.iter().find(|&&i| i < 1.0 || i.fract() != 0.0) {
                 return Err(Error::Input(format!(
                     "dump file: atom id {bad_id} is not a whole number from 1"
                 )));
             }
-            column.iter_mut().for_each(|i| *i -= 1.0);
         }
         table.column(name.to_string(), column)?;
     }

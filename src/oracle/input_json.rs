@@ -189,6 +189,12 @@ pub(crate) fn parse_json(text: &str) -> Result<Parsed> {
                             }
                         }
                     }
+                    // The aligned vibration's form, where the run names it.
+                    Value::Object(params) if k == "params" => {
+                        if let Some(Value::String(form)) = params.get("solution") {
+                            table.metadata("solution", form.clone());
+                        }
+                    }
                     _ => {}
                 }
             }

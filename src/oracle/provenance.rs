@@ -91,6 +91,8 @@ pub fn check_metadata(metadata: &BTreeMap<String, String>, setup: &Setup) -> Res
         ("transfer", c.transfer.name()),
         ("positions", c.positions.name().to_string()),
         ("body-force", c.body_force.name().to_string()),
+        ("knots", c.knots.name().to_string()),
+        ("gradient", c.gradient.name().to_string()),
     ];
     if let Setup::TwoD(s) = setup {
         words.push(("solution", s.scene.solution.name().to_string()));

@@ -289,6 +289,13 @@ pub struct TraceObserver2d {
     pub recorder: Recorder,
 }
 
+/// x_p and u_p (MLS paper Eq. 30) into the trace.
+fn put_positions(r: &mut Recorder, p: &crate::mpm2d::Particles2d) {
+    let x: Vec<f64> = p.x.iter().zip(&p.y).flat_map(|(x, y)| [*x, *y]).collect();
+    r.put("mls-30", x);
+    r.put("mls-30-u", flat2(&p.displacement));
+}
+
 fn flat2(v: &[[f64; 2]]) -> Vec<f64> {
     v.iter().flatten().copied().collect()
 }
@@ -309,6 +316,7 @@ impl StepObserver2d for TraceObserver2d {
             return Ok(());
         }
         let (ws, p) = (&sim.workspace, &sim.particles);
+        let projected = sim.settings.conventions.positions == Positions::Projected;
         match point {
             StepPoint2d::GridMapping => {
                 if !ws.gauss_values.is_empty() {
@@ -330,9 +338,9 @@ impl StepObserver2d for TraceObserver2d {
             }
             StepPoint2d::ParticleUpdate => {
                 r.put("mls-29", flat2(&p.velocity));
-                let x: Vec<f64> = p.x.iter().zip(&p.y).flat_map(|(x, y)| [*x, *y]).collect();
-                r.put("mls-30", x);
-                r.put("mls-30-u", flat2(&p.displacement));
+                if !projected {
+                    put_positions(r, p);
+                }
                 if sim.settings.conventions.transfer == crate::mpm::conventions::Transfer::Apic {
                     r.put("apic-c", flat4(&p.affine));
                 }
@@ -340,6 +348,11 @@ impl StepObserver2d for TraceObserver2d {
             StepPoint2d::EndOfStepVelocity => {
                 r.put("mls-32", flat2(&ws.momentum_end));
                 r.put("mls-33", flat2(&ws.velocity_end));
+                // `--positions projected` moves the particles after
+                // Eqs. (31)–(33): their positions are final only here.
+                if projected {
+                    put_positions(r, p);
+                }
             }
             StepPoint2d::Deformation => {
                 r.put("mls-35", flat4(&p.deformation));

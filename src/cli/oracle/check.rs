@@ -64,10 +64,11 @@ pub fn check(a: CheckArgs, limits: &Limits) -> Result<Output> {
     let (input, ignored) = read(path, &a, limits)?;
     let only = match &input {
         Input::Trace(t) => {
-            let ours = match &setup {
+            let mut ours = match &setup {
                 Setup::OneD(s) => header_1d(s)?,
                 Setup::TwoD(s) => header_2d(s)?,
             };
+            name_default_conventions(&mut ours, &setup)?;
             crate::oracle::check::check_header(&t.header, &ours)?;
             Some(t.steps.iter().map(|s| s.step).collect())
         }
@@ -216,4 +217,30 @@ fn check_convergence(a: &CheckArgs, o: &CheckOptions, limits: &Limits) -> Result
             ))
         }),
     })
+}
+
+/// A trace header leaves out the dimension's default conventions (and the
+/// aligned vibration's default solution); for the comparison of headers
+/// hompm's names them, so that a trace that names others is refused, not
+/// compared (issue #36's fuzz).
+fn name_default_conventions(
+    header: &mut std::collections::BTreeMap<String, serde_json::Value>,
+    setup: &Setup,
+) -> Result<()> {
+    let value = crate::oracle::setup::to_json(&setup.conventions())?;
+    match setup {
+        Setup::OneD(_) => {
+            if let Some(serde_json::Value::Object(d)) = header.get_mut("discretisation") {
+                d.entry("conventions").or_insert(value);
+            }
+        }
+        Setup::TwoD(s) => {
+            header.entry("conventions".to_string()).or_insert(value);
+            if let Some(serde_json::Value::Object(scene)) = header.get_mut("scene") {
+                let form = serde_json::Value::String(s.scene.solution.name().into());
+                scene.entry("solution").or_insert(form);
+            }
+        }
+    }
+    Ok(())
 }

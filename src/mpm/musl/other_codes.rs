@@ -7,7 +7,7 @@
 //! particles is not the one that strains them. [`super::Simulation::step`]
 //! calls them in place of, or besides, the book's.
 
-use super::{Error, Particles, Result, Settings, Simulation, Stencils};
+use super::{Particles, Result, Settings, Simulation, Stencils};
 use crate::mpm::mapping::{Mapping, MassMatrix};
 
 impl Simulation {
@@ -72,25 +72,11 @@ impl Simulation {
 /// Refuses another code's conventions where they mean nothing: they are
 /// defined for the direct mapping with a lumped mass.
 pub(super) fn check_conventions(settings: &Settings) -> Result<()> {
-    let c = settings.conventions;
-    c.validate()?;
-    if c.is_two_d_only() {
-        return Err(Error::InvalidArgument(format!(
-            "{} is 2D only: the 1D step has no APIC, affine gradient or padded knots",
-            c.flags(1).join(" ")
-        )));
-    }
     let plain = settings.force_mapping == Mapping::Direct
         && settings.velocity_mapping == Mapping::Direct
         && settings.mass == MassMatrix::Lumped
         && !settings.consistent_acceleration;
-    if c.needs_grid_velocity() && !plain {
-        return Err(Error::InvalidArgument(format!(
-            "{} is defined for the direct mapping with a lumped mass",
-            c.flags(1).join(" ")
-        )));
-    }
-    Ok(())
+    settings.conventions.check_1d(plain)
 }
 
 /// Steps 5–6 of another code: u_p, x_p grow by Δt Σ_i φ_i v_i with v the

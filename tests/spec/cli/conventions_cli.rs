@@ -319,3 +319,116 @@ fn a_2d_trace_carries_c_p_with_apic_and_the_nodal_body_force_with_nodes() {
     assert_eq!(step["nodal-body-force"].as_array().unwrap().len(), 2 * 16);
     assert!(step.get("apic-c").is_none());
 }
+
+#[test]
+fn a_trace_or_run_that_names_other_conventions_is_refused_by_a_default_check() {
+    // A USL trace against the book's step: its header names the scheme.
+    let mut args = vec!["trace"];
+    args.extend_from_slice(BAR);
+    args.extend_from_slice(&["--scheme", "usl", "--json"]);
+    let file = scratch("named-usl-trace.json");
+    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
+    let e = check(&file, &[]).unwrap_err().to_string();
+    assert!(e.contains("discretisation.conventions."), "{e}");
+    // The axis-aligned solution, named by a run and by a trace.
+    let two = [
+        "aligned-vibration",
+        "--method",
+        "mpm",
+        "--cells",
+        "2",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+    ];
+    for command in ["run", "trace"] {
+        let mut args = vec![command];
+        args.extend_from_slice(&two);
+        args.extend_from_slice(&["--solution", "axis-aligned", "--json"]);
+        let file = scratch(&format!("axis-{command}.json"));
+        std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
+        let f = file.to_str().unwrap().to_string();
+        let mut args = vec!["check"];
+        args.extend_from_slice(&two);
+        args.extend_from_slice(&["--input", &f]);
+        let e = hompm::cli::run(&args).unwrap_err().to_string();
+        assert!(e.contains("solution"), "{command}: {e}");
+    }
+    // Knots and gradient named by a run.
+    let s4 = [
+        "aligned-vibration",
+        "--method",
+        "bsmpm",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+    ];
+    let mut args = vec!["run"];
+    args.extend_from_slice(&s4);
+    args.extend_from_slice(&[
+        "--transfer",
+        "apic",
+        "--gradient",
+        "affine",
+        "--knots",
+        "padded",
+        "--json",
+    ]);
+    let file = scratch("named-taichi.json");
+    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
+    let f = file.to_str().unwrap().to_string();
+    let mut args = vec!["check"];
+    args.extend_from_slice(&s4);
+    args.extend_from_slice(&["--transfer", "apic", "--knots", "padded", "--input", &f]);
+    let e = hompm::cli::run(&args).unwrap_err().to_string();
+    assert!(e.contains("gradient = affine"), "{e}");
+}
+
+#[test]
+fn a_2d_trace_with_projected_positions_checks_against_its_own_run() {
+    let s4 = [
+        "aligned-vibration",
+        "--method",
+        "bsmpm",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+        "--positions",
+        "projected",
+    ];
+    let mut args = vec!["trace"];
+    args.extend_from_slice(&s4);
+    args.push("--json");
+    let file = scratch("projected-trace.json");
+    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
+    let f = file.to_str().unwrap().to_string();
+    let mut args = vec!["check"];
+    args.extend_from_slice(&s4);
+    args.extend_from_slice(&["--input", &f]);
+    let out = hompm::cli::run(&args).unwrap();
+    assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
+}
+
+#[test]
+fn an_invalid_combination_of_conventions_is_a_usage_error_of_check() {
+    for flags in [
+        &["vibrating-bar", "--knots", "padded"][..],
+        &["vibrating-bar", "--transfer", "apic"],
+        &["aligned-vibration", "--scheme", "usf"],
+        &["aligned-vibration", "--method", "mpm", "--transfer", "apic"],
+        &["aligned-vibration", "--method", "mpm", "--knots", "padded"],
+    ] {
+        let mut args = vec!["check"];
+        args.extend_from_slice(flags);
+        args.extend_from_slice(&["--input", "/nonexistent"]);
+        let e = hompm::cli::run(&args).unwrap_err();
+        assert_eq!(hompm::cli::exit_code(&e), 2, "{flags:?}: {e}");
+    }
+}

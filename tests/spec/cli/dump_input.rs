@@ -153,3 +153,44 @@ fn a_malformed_dump_is_one_line_naming_the_problem() {
         .to_string();
     assert!(e.contains("row") || e.contains("column"), "{e}");
 }
+
+#[test]
+fn the_fuzz_finds_of_issue_36_are_refused_or_agree_as_they_should() {
+    let good = dump_block(&[], 5);
+    // Ids 2..=n+1 are not LAMMPS' 1..=n: refused (they were read twice as
+    // 1-based).
+    let shifted: String = good
+        .lines()
+        .map(|l| match l.split_once(' ') {
+            Some((id, rest)) if id.parse::<usize>().is_ok() && rest.starts_with("1 ") => {
+                format!("{} {rest}\n", id.parse::<usize>().unwrap() + 1)
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let e = check(&shifted, "shifted.dump", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("id 65 is not a particle"), "{e}");
+    // A second NUMBER OF ATOMS in a block is refused.
+    let twice = good.replacen("ITEM: BOX", "ITEM: NUMBER OF ATOMS\n64\nITEM: BOX", 1);
+    let e = check(&twice, "twice.dump", &[]).unwrap_err().to_string();
+    assert!(e.contains("a second NUMBER OF ATOMS"), "{e}");
+    // Line numbers count blank lines among the rows.
+    let mut lines: Vec<String> = good.lines().map(str::to_string).collect();
+    lines.insert(12, String::new());
+    lines.insert(12, String::new());
+    lines[16] = lines[16].replacen(" 1 ", " one ", 1);
+    let e = check(&(lines.join("\n") + "\n"), "blank.dump", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("line 17:"), "{e}");
+    // An unknown item with a Unicode line separator stays on one line.
+    let sep = good.replacen("ITEM: BOX BOUNDS sm sm sm", "ITEM: BOX\u{2028}X", 1);
+    let e = check(&sep, "sep.dump", &[]).unwrap_err().to_string();
+    let line = hompm::cli::one_line(&e);
+    assert!(
+        line.contains("\\u{2028}") && line.lines().count() == 1,
+        "{line}"
+    );
+}
