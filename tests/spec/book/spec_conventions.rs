@@ -583,3 +583,54 @@ fn taichis_conventions_are_refused_where_they_mean_nothing() {
     };
     assert!(Simulation2d::new(grid, p, settings, None).is_err());
 }
+
+#[test]
+fn the_flags_of_a_set_of_conventions_name_exactly_what_differs_from_the_dimensions_default() {
+    assert!(Conventions::BOOK.flags(1).is_empty());
+    assert!(Conventions::MLS_PAPER.flags(2).is_empty());
+    assert_eq!(Conventions::default_for(1), Conventions::BOOK);
+    assert_eq!(Conventions::default_for(2), Conventions::MLS_PAPER);
+    assert!(Conventions::MLS_PAPER.is_mls_paper() && !Conventions::BOOK.is_mls_paper());
+    assert!(Conventions::BOOK.is_book() && !Conventions::MLS_PAPER.is_book());
+    // The MLS paper's step in 1D differs from the book's in its positions
+    // only, and the book's in 2D likewise.
+    assert_eq!(Conventions::MLS_PAPER.flags(1), vec!["--positions grid"]);
+    assert_eq!(Conventions::BOOK.flags(2), vec!["--positions projected"]);
+    let every = Conventions {
+        scheme: Scheme::Usl,
+        transfer: Transfer::Apic,
+        positions: Positions::Grid,
+        body_force: BodyForceAt::Nodes,
+        knots: hompm::mpm::conventions::Knots::Padded,
+        gradient: hompm::mpm::conventions::Gradient::Affine,
+    };
+    assert_eq!(
+        every.flags(1),
+        vec![
+            "--scheme usl",
+            "--transfer apic",
+            "--positions grid",
+            "--body-force nodes",
+            "--knots padded",
+            "--gradient affine"
+        ]
+    );
+    // Each 2D-only convention alone makes the set 2D-only.
+    for one in [
+        Conventions {
+            transfer: Transfer::Apic,
+            ..Conventions::BOOK
+        },
+        Conventions {
+            knots: hompm::mpm::conventions::Knots::Padded,
+            ..Conventions::BOOK
+        },
+        Conventions {
+            gradient: hompm::mpm::conventions::Gradient::Affine,
+            ..Conventions::BOOK
+        },
+    ] {
+        assert!(one.is_two_d_only(), "{one:?}");
+    }
+    assert!(!Conventions::BOOK.is_two_d_only() && !Conventions::MLS_PAPER.is_two_d_only());
+}

@@ -430,5 +430,50 @@ fn an_invalid_combination_of_conventions_is_a_usage_error_of_check() {
         args.extend_from_slice(&["--input", "/nonexistent"]);
         let e = hompm::cli::run(&args).unwrap_err();
         assert_eq!(hompm::cli::exit_code(&e), 2, "{flags:?}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.contains("only") || m.contains("quadratic B-splines"),
+            "{flags:?}: {m}"
+        );
     }
+}
+
+#[test]
+fn the_2d_default_is_the_mls_papers_step_and_names_nothing() {
+    let two = [
+        "aligned-vibration",
+        "--method",
+        "bsmpm",
+        "--cells",
+        "2",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+        "--json",
+    ];
+    let mut args = vec!["run"];
+    args.extend_from_slice(&two);
+    let plain = hompm::cli::run(&args).unwrap().stdout;
+    args.extend_from_slice(&[
+        "--positions",
+        "grid",
+        "--scheme",
+        "musl",
+        "--transfer",
+        "flip",
+    ]);
+    let named = hompm::cli::run(&args).unwrap().stdout;
+    assert_eq!(plain, named);
+    let doc: Value = serde_json::from_str(&plain).unwrap();
+    assert!(doc.get("conventions").is_none());
+    // hompm's own 2D u is its x − x0 bit for bit: the check says so.
+    let file = scratch("own-2d.json");
+    std::fs::write(&file, &plain).unwrap();
+    let f = file.to_str().unwrap().to_string();
+    let mut args = vec!["check"];
+    args.extend_from_slice(&two[..9]);
+    args.extend_from_slice(&["--input", &f]);
+    let out = hompm::cli::run(&args).unwrap().stdout;
+    assert!(out.contains("(your u_x, bit for bit)"), "{out}");
 }

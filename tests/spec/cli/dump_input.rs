@@ -194,3 +194,42 @@ fn the_fuzz_finds_of_issue_36_are_refused_or_agree_as_they_should() {
         "{line}"
     );
 }
+
+#[test]
+fn a_dump_reads_time_and_units_items_and_refuses_bad_box_bounds_and_short_blocks() {
+    let good = dump_block(&[], 5);
+    let with_items = good.replacen(
+        "ITEM: NUMBER OF ATOMS",
+        "ITEM: UNITS\nsi\nITEM: TIME\n0.01999\nITEM: NUMBER OF ATOMS",
+        1,
+    );
+    assert!(check(&with_items, "items.dump", &[])
+        .unwrap()
+        .stdout
+        .starts_with("agrees"));
+    for (bounds, name) in [("0\n", "one"), ("0 x\n", "word")] {
+        let bad = good.replacen("0 25\n", bounds, 1);
+        let e = check(&bad, &format!("bounds-{name}.dump"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is not a box bound"), "{e}");
+    }
+    // A block that claims one atom more than it has, followed by another
+    // block: the next block's ITEM line is not read as a row.
+    let short =
+        good.replacen("NUMBER OF ATOMS\n64", "NUMBER OF ATOMS\n65", 1) + &dump_block(&[], 6);
+    let e = check(&short, "short.dump", &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("NUMBER OF ATOMS is 65 but timestep 5 has 64 rows"),
+        "{e}"
+    );
+    // Line numbers are the file's, from 1.
+    let e = check(
+        &good.replacen("TIMESTEP\n5", "TIMESTEP\nfive", 1),
+        "ts.dump",
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("line 2:"), "{e}");
+}
