@@ -241,12 +241,12 @@ fn every_flag_value_is_registered_once_with_help_citation_and_codes_and_parses_b
     assert_eq!(Transfer::Blend(0.99).flip_weight(), 0.99);
 }
 
-/// b = (X, 0) per unit mass: the particle and the node forms differ.
+/// b = (X, 2Y) per unit mass: the particle and the node forms differ.
 struct LinearForce;
 impl hompm::mpm2d::BodyForce2d for LinearForce {
     fn fill(&self, _t: f64, x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
         for (o, x) in out.iter_mut().zip(x0) {
-            *o = [x[0], 0.0];
+            *o = [x[0], 2.0 * x[1]];
         }
     }
 }
