@@ -560,26 +560,40 @@ fn update_deformation_with<const W: usize>(
             l[3] += v[1] * dn[1];
         });
         let l = Matrix2::new(l[0], l[1], l[2], l[3]);
-        let f = rule(l, p.deformation[k]);
-        let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
-        p.deformation[k] = f;
-        p.volume[k] = j * p.volume0[k];
-        p.density[k] = p.mass[k] / p.volume[k];
-        p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
-        if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
-            return Err(Error::NonFiniteVelocity {
-                particle: k,
-                step: None,
-                time: None,
-                velocity: p.velocity[k],
-            });
-        }
+        set_deformation(p, k, rule(l, p.deformation[k]), material)?;
+    }
+    Ok(())
+}
+
+/// Eqs. (35)–(37) and (41) for particle k with its new F: V_p = det F
+/// V_p⁰, ρ_p = m_p / V_p, σ_p neo-Hookean. det F ≤ 0 is
+/// `Error::InvertedDeformation` and a velocity that is not finite
+/// `Error::NonFiniteVelocity`, each naming the particle.
+#[inline(always)]
+pub(super) fn set_deformation(
+    p: &mut Particles2d,
+    k: usize,
+    f: Matrix2<f64>,
+    material: &NeoHookean,
+) -> Result<()> {
+    let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
+    p.deformation[k] = f;
+    p.volume[k] = j * p.volume0[k];
+    p.density[k] = p.mass[k] / p.volume[k];
+    p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
+    if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
+        return Err(Error::NonFiniteVelocity {
+            particle: k,
+            step: None,
+            time: None,
+            velocity: p.velocity[k],
+        });
     }
     Ok(())
 }
 
 /// Names particle k in the error of its deformation update.
-pub(super) fn particle_error(mut e: Error, k: usize) -> Error {
+fn particle_error(mut e: Error, k: usize) -> Error {
     if let Error::InvertedDeformation { particle, .. } = &mut e {
         *particle = Some(k);
     }

@@ -17,9 +17,9 @@
 //! Items: [`move_particles`], [`map_direct_apic`], [`update_particles_apic`],
 //! [`update_deformation_affine`].
 
-use super::{particle_error, TensorStencil};
+use super::{set_deformation, TensorStencil};
 use crate::basis::Stencils;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mpm::conventions::{Conventions, Gradient, Positions};
 use crate::mpm2d::grid::Grid2d;
 use crate::mpm2d::material::NeoHookean;
@@ -184,19 +184,7 @@ pub fn update_deformation_affine(
 ) -> Result<()> {
     for k in 0..p.len() {
         let f = (Matrix2::identity() + p.affine[k] * dt) * p.deformation[k];
-        let j = NeoHookean::jacobian(&f).map_err(|e| particle_error(e, k))?;
-        p.deformation[k] = f;
-        p.volume[k] = j * p.volume0[k];
-        p.density[k] = p.mass[k] / p.volume[k];
-        p.stress[k] = material.cauchy_stress_given_jacobian(&f, j);
-        if !(p.velocity[k][0].is_finite() && p.velocity[k][1].is_finite()) {
-            return Err(Error::NonFiniteVelocity {
-                particle: k,
-                step: None,
-                time: None,
-                velocity: p.velocity[k],
-            });
-        }
+        set_deformation(p, k, f, material)?;
     }
     Ok(())
 }

@@ -320,99 +320,96 @@ fn a_2d_trace_carries_c_p_with_apic_and_the_nodal_body_force_with_nodes() {
     assert!(step.get("apic-c").is_none());
 }
 
+/// `hompm <command> <setup> <extra> --json`'s stdout in a scratch file;
+/// its path.
+fn written(command: &str, setup: &[&str], extra: &[&str], name: &str) -> String {
+    let mut args = vec![command];
+    args.extend_from_slice(setup);
+    args.extend_from_slice(extra);
+    args.push("--json");
+    let file = scratch(name);
+    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
+    file.to_str().unwrap().to_string()
+}
+
+/// `hompm check <setup> <extra> --input <path>`.
+fn check_file(setup: &[&str], extra: &[&str], path: &str) -> hompm::Result<hompm::cli::Output> {
+    let mut args = vec!["check"];
+    args.extend_from_slice(setup);
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--input", path]);
+    hompm::cli::run(&args)
+}
+
+const TWO_2D: &[&str] = &[
+    "aligned-vibration",
+    "--method",
+    "mpm",
+    "--cells",
+    "2",
+    "--ppc",
+    "4",
+    "--steps",
+    "3",
+];
+const FOUR_2D: &[&str] = &[
+    "aligned-vibration",
+    "--method",
+    "bsmpm",
+    "--cells",
+    "4",
+    "--ppc",
+    "4",
+    "--steps",
+    "3",
+];
+
 #[test]
 fn a_trace_or_run_that_names_other_conventions_is_refused_by_a_default_check() {
     // A USL trace against the book's step: its header names the scheme.
-    let mut args = vec!["trace"];
-    args.extend_from_slice(BAR);
-    args.extend_from_slice(&["--scheme", "usl", "--json"]);
-    let file = scratch("named-usl-trace.json");
-    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
-    let e = check(&file, &[]).unwrap_err().to_string();
+    let usl = written("trace", BAR, &["--scheme", "usl"], "named-usl-trace.json");
+    let e = check_file(BAR, &[], &usl).unwrap_err().to_string();
     assert!(e.contains("discretisation.conventions."), "{e}");
     // The axis-aligned solution, named by a run and by a trace.
-    let two = [
-        "aligned-vibration",
-        "--method",
-        "mpm",
-        "--cells",
-        "2",
-        "--ppc",
-        "4",
-        "--steps",
-        "3",
-    ];
     for command in ["run", "trace"] {
-        let mut args = vec![command];
-        args.extend_from_slice(&two);
-        args.extend_from_slice(&["--solution", "axis-aligned", "--json"]);
-        let file = scratch(&format!("axis-{command}.json"));
-        std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
-        let f = file.to_str().unwrap().to_string();
-        let mut args = vec!["check"];
-        args.extend_from_slice(&two);
-        args.extend_from_slice(&["--input", &f]);
-        let e = hompm::cli::run(&args).unwrap_err().to_string();
+        let axis = written(
+            command,
+            TWO_2D,
+            &["--solution", "axis-aligned"],
+            &format!("axis-{command}.json"),
+        );
+        let e = check_file(TWO_2D, &[], &axis).unwrap_err().to_string();
         assert!(e.contains("solution"), "{command}: {e}");
     }
     // Knots and gradient named by a run.
-    let s4 = [
-        "aligned-vibration",
-        "--method",
-        "bsmpm",
-        "--cells",
-        "4",
-        "--ppc",
-        "4",
-        "--steps",
-        "3",
-    ];
-    let mut args = vec!["run"];
-    args.extend_from_slice(&s4);
-    args.extend_from_slice(&[
+    let taichi = [
         "--transfer",
         "apic",
         "--gradient",
         "affine",
         "--knots",
         "padded",
-        "--json",
-    ]);
-    let file = scratch("named-taichi.json");
-    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
-    let f = file.to_str().unwrap().to_string();
-    let mut args = vec!["check"];
-    args.extend_from_slice(&s4);
-    args.extend_from_slice(&["--transfer", "apic", "--knots", "padded", "--input", &f]);
-    let e = hompm::cli::run(&args).unwrap_err().to_string();
+    ];
+    let file = written("run", FOUR_2D, &taichi, "named-taichi.json");
+    let e = check_file(
+        FOUR_2D,
+        &taichi[..2]
+            .iter()
+            .chain(&taichi[4..])
+            .copied()
+            .collect::<Vec<_>>(),
+        &file,
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("gradient = affine"), "{e}");
 }
 
 #[test]
 fn a_2d_trace_with_projected_positions_checks_against_its_own_run() {
-    let s4 = [
-        "aligned-vibration",
-        "--method",
-        "bsmpm",
-        "--cells",
-        "4",
-        "--ppc",
-        "4",
-        "--steps",
-        "3",
-        "--positions",
-        "projected",
-    ];
-    let mut args = vec!["trace"];
-    args.extend_from_slice(&s4);
-    args.push("--json");
-    let file = scratch("projected-trace.json");
-    std::fs::write(&file, hompm::cli::run(&args).unwrap().stdout).unwrap();
-    let f = file.to_str().unwrap().to_string();
-    let mut args = vec!["check"];
-    args.extend_from_slice(&s4);
-    args.extend_from_slice(&["--input", &f]);
-    let out = hompm::cli::run(&args).unwrap();
+    let projected = ["--positions", "projected"];
+    let trace = written("trace", FOUR_2D, &projected, "projected-trace.json");
+    let out = check_file(FOUR_2D, &projected, &trace).unwrap();
     assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
 }
 
