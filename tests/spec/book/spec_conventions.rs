@@ -640,3 +640,68 @@ fn the_flags_of_a_set_of_conventions_name_exactly_what_differs_from_the_dimensio
     }
     assert!(!Conventions::BOOK.is_two_d_only() && !Conventions::MLS_PAPER.is_two_d_only());
 }
+
+#[test]
+fn apic_maps_the_affine_momentum_whose_first_moment_is_m_c_d() {
+    // Σ_i (mv)_i = m_p v_p and Σ_i (mv)_i ⊗ (x_i − x_p) = m_p C_p D_p with
+    // D_p = h²/4 I for quadratic B-splines (Jiang et al. 2015).
+    let (x, y) = (0.41, 0.77);
+    let mut sim = taichi_particle(x, y, nalgebra::Matrix2::zeros());
+    let c = nalgebra::Matrix2::new(1.5, -0.7, 0.4, 2.0);
+    sim.particles.velocity[0] = [0.3, -0.2];
+    sim.particles.affine[0] = c;
+    let (grid, p, ws) = (&sim.grid, &sim.particles, &mut sim.workspace);
+    hompm::mpm2d::step::map_direct_apic(grid, p, ws, hompm::mpm::conventions::Gradient::Affine);
+    let along = grid.node_positions_along();
+    let n = along.len();
+    let m = p.mass[0];
+    let (mut total, mut moment) = ([0.0; 2], nalgebra::Matrix2::zeros());
+    for (i, mv) in ws.momentum.iter().enumerate() {
+        let d = [along[i % n] - x, along[i / n] - y];
+        total[0] += mv[0];
+        total[1] += mv[1];
+        for r in 0..2 {
+            for k in 0..2 {
+                moment[(r, k)] += mv[r] * d[k];
+            }
+        }
+    }
+    assert_all(&total, &[m * 0.3, m * -0.2]);
+    let h = 0.25;
+    assert_relative_eq!(moment, c * (m * h * h / 4.0), max_relative = 1e-12);
+}
+
+#[test]
+fn another_codes_step_is_refused_when_either_mapping_is_not_direct() {
+    for (force, velocity) in [
+        (Mapping::Tls, Mapping::Direct),
+        (Mapping::Direct, Mapping::Tls),
+    ] {
+        let grid = Grid::new(Method::Bsmpm { degree: 2 }, 0.0, 2.0, 2).unwrap();
+        let p = Particles::new(
+            vec![0.5, 1.25],
+            vec![1.0; 2],
+            vec![1.0; 2],
+            vec![0.0; 2],
+            vec![0.0; 2],
+        )
+        .unwrap();
+        let settings = Settings {
+            force_mapping: force,
+            velocity_mapping: velocity,
+            mass: MassMatrix::Lumped,
+            constitutive: Constitutive::SmallStrain,
+            young: 10.0,
+            gravity: 0.0,
+            gravity_ramp: None,
+            dirichlet: vec![],
+            consistent_acceleration: false,
+            tls_density_average: hompm::reconstruct::taylor::CellAverage::Exact,
+            conventions: with(Scheme::Usl, Transfer::Flip, Positions::Grid),
+        };
+        assert!(
+            Simulation::new(grid, p, settings).is_err(),
+            "{force:?} {velocity:?}"
+        );
+    }
+}
