@@ -565,10 +565,8 @@ fn update_deformation_with<const W: usize>(
     Ok(())
 }
 
-/// Eqs. (35)–(37) and (41) for particle k with its new F: V_p = det F
-/// V_p⁰, ρ_p = m_p / V_p, σ_p neo-Hookean. det F ≤ 0 is
-/// `Error::InvertedDeformation` and a velocity that is not finite
-/// `Error::NonFiniteVelocity`, each naming the particle.
+/// Eqs. (35)–(37) and (41) for particle k with its new F (errors as
+/// [`update_deformation`]'s).
 #[inline(always)]
 pub(super) fn set_deformation(
     p: &mut Particles2d,

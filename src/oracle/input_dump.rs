@@ -31,7 +31,7 @@
 //!
 //! Items: none public; `oracle::input::parse_input_as` calls `parse_dump`.
 
-use super::table::{finite, short, Parsed, TableBuilder};
+use super::table::{short, Parsed, TableBuilder};
 use crate::error::{Error, Result};
 
 /// One block of a dump file.
@@ -201,7 +201,7 @@ pub(crate) fn parse_dump(text: &str, step: Option<u64>) -> Result<Parsed> {
         )));
     }
     let mut values = vec![Vec::with_capacity(b.rows.len()); b.columns.len()];
-    for (r, &(line, row)) in b.rows.iter().enumerate() {
+    for &(line, row) in &b.rows {
         let cells: Vec<&str> = row.split_whitespace().collect();
         if cells.len() != b.columns.len() {
             return Err(bad(
@@ -224,7 +224,16 @@ pub(crate) fn parse_dump(text: &str, step: Option<u64>) -> Result<Parsed> {
                     ),
                 )
             })?;
-            values[c].push(finite(v, r + 1, b.columns[c])?);
+            if !v.is_finite() {
+                return Err(bad(
+                    line,
+                    format!(
+                        "column '{}' is {v}; every value must be finite",
+                        short(b.columns[c])
+                    ),
+                ));
+            }
+            values[c].push(v);
         }
     }
     let mut table = TableBuilder::default();

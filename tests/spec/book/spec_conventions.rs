@@ -667,6 +667,7 @@ fn apic_maps_the_affine_momentum_whose_first_moment_is_m_c_d() {
         }
     }
     assert_all(&total, &[m * 0.3, m * -0.2]);
+    assert_relative_eq!(ws.mass.iter().sum::<f64>(), m, max_relative = 1e-12);
     let h = 0.25;
     assert_relative_eq!(moment, c * (m * h * h / 4.0), max_relative = 1e-12);
 }

@@ -223,6 +223,18 @@ fn a_dump_reads_time_and_units_items_and_refuses_bad_box_bounds_and_short_blocks
         e.contains("NUMBER OF ATOMS is 65 but timestep 5 has 64 rows"),
         "{e}"
     );
+    // A value that is not finite names its line.
+    let e = check(
+        &good.replacen("\n1 1 ", "\n1 1 inf ", 1).replacen(
+            "ATOMS id type x0",
+            "ATOMS id type q x0",
+            1,
+        ),
+        "inf.dump",
+        &[],
+    );
+    let e = e.unwrap_err().to_string();
+    assert!(e.contains("line 10: column 'q' is inf"), "{e}");
     // Line numbers are the file's, from 1.
     let e = check(
         &good.replacen("TIMESTEP\n5", "TIMESTEP\nfive", 1),
