@@ -122,7 +122,7 @@ end
 OCTAVE
 
 # ---- the driver ----------------------------------------------------------
-cat > "$work/driver.m" <<'OCTAVE'
+cat > "$work/mpmat_mms2d_driver.m" <<'OCTAVE'
 % Runs the edited copy of impmMMS2D.m (its workspace stays here), then
 % writes the final particles with hompm's column names and mpmat's error:
 % its own norm sqrt(sum_p |e_p|^2 V_p) (V_p = J_p V0_p, as its loop stores
@@ -188,7 +188,7 @@ for n in "${cells_list[@]}"; do
     mkdir -p "$case_dir"
     echo "== mpmat impmMMS2D, cells: $label"
     (cd "$work" && MPMAT_CELLS="$envn" MPMAT_OUT="$case_dir" MPMAT_MLS="${MLS:-}" OMP_NUM_THREADS=1 \
-        octave-cli --quiet --no-history --no-window-system --norc driver.m > "$case_dir/octave.log" 2>&1) \
+        octave-cli --quiet --no-history --no-window-system --norc mpmat_mms2d_driver.m > "$case_dir/octave.log" 2>&1) \
         || { echo "Octave failed; see $case_dir/octave.log" >&2; exit 1; }
     csv="$case_dir/particles.csv"
     ncells=$(sed -n 's/^# cells: //p' "$csv")
