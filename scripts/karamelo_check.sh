@@ -48,8 +48,9 @@
 #       v(x,0) = v0 sin(pi x/L), both end nodes fixed), 16 cells, 4 particles
 #       per cell, dt = 1e-5, 1999 steps, linear elastic with nu = 0
 #       (sigma += E d_eps in 1D since 2G = E and lambda = 0).
-#   bar4096-musl-flip1: the same on 4096 cells (BAR4096_STEPS steps,
-#       default 1999).
+#   bar4096-musl-flip1, bar4096-usl-flip1, bar4096-usf-flip1,
+#   bar4096-musl-flip0.99: the same four on 4096 cells (BAR4096_STEPS
+#       steps, default 1999).
 #   av8-musl-flip1: hompm's aligned vibration (neo-Hookean, E = 1e7,
 #       nu = 0.3, rho0 = 1000, A = 0.1, L = 1), 8 x 8 cells, 2 x 2 particles
 #       per cell, dt = 1e-5, 1000 steps, the manufactured body force applied
@@ -59,7 +60,9 @@
 #
 # Environment: KARAMELO_WORKDIR=DIR reuses (or creates) DIR as the patched
 # copy instead of a fresh temporary folder (the edits are idempotent and make
-# rebuilds only what changed); CASES="name ..." runs only those cases.
+# rebuilds only what changed); CASES="name ..." runs only those cases;
+# HOMPM=PATH checks with that hompm binary (default: this tree's
+# target/release/hompm, built with cargo if missing).
 set -euo pipefail
 
 if [ $# -lt 1 ] || [ ! -d "$1/src" ]; then
@@ -211,7 +214,7 @@ EOF
 
 # ---- cases ----------------------------------------------------------------
 steps4096=${BAR4096_STEPS:-1999}
-all_cases="bar16-musl-flip1 bar16-usl-flip1 bar16-usf-flip1 bar16-musl-flip0.99 bar4096-musl-flip1 av8-musl-flip1"
+all_cases="bar16-musl-flip1 bar16-usl-flip1 bar16-usf-flip1 bar16-musl-flip0.99 bar4096-musl-flip1 bar4096-usl-flip1 bar4096-usf-flip1 bar4096-musl-flip0.99 av8-musl-flip1"
 cases=${CASES:-$all_cases}
 
 input_of() { # case, steps, dump_every
@@ -221,6 +224,9 @@ input_of() { # case, steps, dump_every
         bar16-usf-flip1) bar_input usf 1 16 "$2" "$3" ;;
         bar16-musl-flip0.99) bar_input musl 99/100 16 "$2" "$3" ;;
         bar4096-musl-flip1) bar_input musl 1 4096 "$2" "$3" ;;
+        bar4096-usl-flip1) bar_input usl 1 4096 "$2" "$3" ;;
+        bar4096-usf-flip1) bar_input usf 1 4096 "$2" "$3" ;;
+        bar4096-musl-flip0.99) bar_input musl 99/100 4096 "$2" "$3" ;;
         av8-musl-flip1) av_input "$2" "$3" ;;
         *) echo "unknown case $1" >&2; exit 2 ;;
     esac
@@ -260,16 +266,21 @@ echo "dumps in $out" >&2
 # ---- hompm check, one line per case -----------------------------------------
 [ -n "${NO_CHECK:-}" ] && exit 0
 root=$(cd "$(dirname "$0")/.." && pwd)
-hompm="$root/target/release/hompm"
-[ -x "$hompm" ] || (cd "$root" && cargo build --release --quiet)
+if [ -n "${HOMPM:-}" ]; then
+    hompm=$HOMPM
+    [ -x "$hompm" ] || { echo "HOMPM=$hompm is not an executable" >&2; exit 2; }
+else
+    hompm="$root/target/release/hompm"
+    [ -x "$hompm" ] || (cd "$root" && cargo build --release --quiet)
+fi
 bar_columns="v=vx,stress=s11"
 av_columns="x0_x=x0,x0_y=y0,x_x=x,x_y=y,v_x=vx,v_y=vy,stress_xx=s11,stress_yy=s22,stress_xy=s12"
 conventions_of() {
     case $1 in
         bar16-musl-flip1|bar4096-musl-flip1) echo "--positions grid" ;;
-        bar16-usl-flip1) echo "--scheme usl" ;;
-        bar16-usf-flip1) echo "--scheme usf" ;;
-        bar16-musl-flip0.99) echo "--positions grid --transfer flip:0.99" ;;
+        bar16-usl-flip1|bar4096-usl-flip1) echo "--scheme usl" ;;
+        bar16-usf-flip1|bar4096-usf-flip1) echo "--scheme usf" ;;
+        bar16-musl-flip0.99|bar4096-musl-flip0.99) echo "--positions grid --transfer flip:0.99" ;;
         av8-musl-flip1) echo "--body-force nodes" ;;
     esac
 }
@@ -283,7 +294,7 @@ for c in $cases; do
         av8-*) args="aligned-vibration --method mpm --cells 8 --ppc 4 --steps $n --match x0 --columns $av_columns" ;;
     esac
     echo "== $c: hompm check $args $(conventions_of "$c")"
-    # shellcheck disable=SC2086
+    # shellcheck disable=SC2086,SC2046
     "$hompm" check $args $(conventions_of "$c") --input "$dump" 2>/dev/null | head -2 || status=1
 done
 exit $status
