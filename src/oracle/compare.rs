@@ -120,6 +120,9 @@ pub struct FieldReport {
     pub max_abs: f64,
     /// Largest |yours − hompm|/|hompm| (where hompm's value is not 0).
     pub max_rel: f64,
+    /// Largest |yours − hompm| as a multiple of the tolerance that value
+    /// had, max(atol_abs, rtol·|hompm|): below 1 for every agreeing field.
+    pub max_times_tolerance: f64,
     /// hompm's index of the particle with the largest absolute difference.
     pub worst_particle: usize,
     /// hompm's index of the particle with the largest relative difference.
@@ -181,6 +184,7 @@ pub fn compare_field(
         atol_abs,
         max_abs: 0.0,
         max_rel: 0.0,
+        max_times_tolerance: 0.0,
         worst_particle: first,
         worst_particle_rel: first,
         at_worst: Pair {
@@ -211,9 +215,10 @@ pub fn compare_field(
                 r.max_rel = saturate(d / b.abs());
                 r.worst_particle_rel = k;
             }
+            let excess = t.excess(a, b, atol_abs);
+            r.max_times_tolerance = r.max_times_tolerance.max(excess);
             if t.fails(a, b, atol_abs) {
                 r.failures += 1;
-                let excess = t.excess(a, b, atol_abs);
                 if r.worst_failure
                     .as_ref()
                     .is_none_or(|w| excess > w.times_tolerance)

@@ -15,8 +15,13 @@
 //! - **LAMMPS-style dump files** (Karamelo and other LAMMPS-derived
 //!   codes), one timestep block, the last unless `--dump-step` names
 //!   another ([`super::input_dump`]).
+//! - **VTK** particle files: legacy `.vtk` ([`super::input_vtk`]) and XML
+//!   `.vtp`/`.vtu` ([`super::input_vtk_xml`]); columns `Points:0…2` and
+//!   each point-data array (`name`, or `name:j` per component).
+//! - **NumPy** `.npy` and `.npz` ([`super::input_npy`]).
 //!
-//! `--format` forces one reader ([`Format`]). Column names are hompm's ([`known_columns`]); `--columns ours=theirs`
+//! The binary formats are found by their first bytes, the text ones by
+//! their first non-blank text; `--format` forces one reader ([`Format`]). Column names are hompm's ([`known_columns`]); `--columns ours=theirs`
 //! renames the file's. Every value must be a finite number. Anything
 //! unusable is [`Error::Input`] with one sentence naming the row and
 //! column.
@@ -98,8 +103,10 @@ impl ColumnMap {
 /// Reads `path` through a reader that stops at `max_memory /`
 /// [`super::INPUT_MEMORY_FACTOR`] bytes, so that the limit holds for
 /// pipes, devices and FIFOs as for regular files; a regular file over it
-/// is refused by its size before it is read.
-pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
+/// is refused by its size before it is read. Returns the bytes: the text
+/// formats must be UTF-8 ([`parse_input_as`] says so), the binary ones
+/// need not.
+pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<Vec<u8>> {
     use std::io::Read;
     let cannot = |e: std::io::Error| Error::Input(format!("cannot read {}: {e}", path.display()));
     let allowed = max_memory / super::INPUT_MEMORY_FACTOR;
@@ -126,13 +133,7 @@ pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
     if bytes.len() as u64 > allowed {
         return Err(over(format!("more than {allowed} bytes")));
     }
-    String::from_utf8(bytes).map_err(|e| {
-        Error::Input(format!(
-            "{} is not UTF-8 text (byte {} is not)",
-            path.display(),
-            e.utf8_error().valid_up_to()
-        ))
-    })
+    Ok(bytes)
 }
 
 /// Parses a file's text as CSV or JSON (by its first non-blank character),
@@ -140,7 +141,7 @@ pub fn read_input(path: &std::path::Path, max_memory: u64) -> Result<String> {
 /// columns that are not hompm's (not compared; also in
 /// [`ParticleTable::ignored`]).
 pub fn parse_input(text: &str, map: &ColumnMap, two_d: bool) -> Result<(Input, Vec<String>)> {
-    parse_input_as(text, Format::Auto, None, map, two_d)
+    parse_input_as(text.as_bytes(), Format::Auto, None, map, two_d, u64::MAX)
 }
 
 /// `--format`: how an input file is read.
@@ -156,25 +157,58 @@ pub enum Format {
     Json,
     /// A LAMMPS-style dump file (Karamelo; `oracle::input_dump`).
     LammpsDump,
+    /// A legacy VTK file, ASCII or binary (`oracle::input_vtk`).
+    Vtk,
+    /// An XML VTK file, `.vtp` or `.vtu` (`oracle::input_vtk_xml`).
+    VtkXml,
+    /// A NumPy `.npy` array (`oracle::input_npy`).
+    Npy,
+    /// A NumPy `.npz` archive of named arrays (`oracle::input_npy`).
+    Npz,
 }
 
-/// [`parse_input`] with the format forced (or detected) and, for a dump
-/// file, the timestep to read (default: the last).
+impl Format {
+    /// The format of `bytes`: binary formats by their magic bytes, text
+    /// ones by their first non-blank text.
+    fn detect(bytes: &[u8]) -> Self {
+        let text = bytes.trim_ascii_start();
+        if bytes.starts_with(super::npy_header::NPY_MAGIC) {
+            Self::Npy
+        } else if bytes.starts_with(super::input_npy::ZIP_MAGIC) {
+            Self::Npz
+        } else if text.starts_with(super::input_vtk::LEGACY_MAGIC) {
+            Self::Vtk
+        } else if text.starts_with(b"<?xml") || text.starts_with(b"<VTKFile") {
+            Self::VtkXml
+        } else if text.starts_with(b"{") || text.starts_with(b"[") {
+            Self::Json
+        } else if super::input_dump::is_dump(&String::from_utf8_lossy(
+            &text[..text.len().min(4096)],
+        )) {
+            Self::LammpsDump
+        } else {
+            Self::Csv
+        }
+    }
+}
+
+/// [`parse_input`] of a file's bytes with the format forced (or
+/// detected) and, for a dump file, the timestep to read (default: the
+/// last). Compressed data (`.npz`, zlib in VTK XML) may unpack to at most
+/// `unpack_limit` bytes.
 pub fn parse_input_as(
-    text: &str,
+    bytes: &[u8],
     format: Format,
     dump_step: Option<u64>,
     map: &ColumnMap,
     two_d: bool,
+    unpack_limit: u64,
 ) -> Result<(Input, Vec<String>)> {
-    let trimmed = text.trim_start();
-    if trimmed.is_empty() {
+    if bytes.trim_ascii_start().is_empty() {
         return Err(Error::Input("the file is empty".into()));
     }
     let format = match format {
-        Format::Auto if trimmed.starts_with('{') || trimmed.starts_with('[') => Format::Json,
-        Format::Auto if super::input_dump::is_dump(trimmed) => Format::LammpsDump,
-        Format::Auto => Format::Csv,
+        Format::Auto => Format::detect(bytes),
         given => given,
     };
     if dump_step.is_some() && format != Format::LammpsDump {
@@ -182,10 +216,22 @@ pub fn parse_input_as(
             "--dump-step applies to a LAMMPS dump file only".into(),
         ));
     }
+    let text = || {
+        std::str::from_utf8(bytes).map_err(|e| {
+            Error::Input(format!(
+                "the file is not UTF-8 text (byte {} is not), and not a binary format hompm reads (.npy, .npz, binary VTK)",
+                e.valid_up_to()
+            ))
+        })
+    };
     let parsed = match format {
-        Format::Json => super::input_json::parse_json(trimmed)?,
-        Format::LammpsDump => super::input_dump::parse_dump(text, dump_step)?,
-        _ => parse_csv(text)?,
+        Format::Json => super::input_json::parse_json(text()?.trim_start())?,
+        Format::LammpsDump => super::input_dump::parse_dump(text()?, dump_step)?,
+        Format::Vtk => super::input_vtk::parse_legacy(bytes)?,
+        Format::VtkXml => super::input_vtk_xml::parse_xml(bytes, unpack_limit)?,
+        Format::Npy => super::input_npy::parse_npy(bytes)?,
+        Format::Npz => super::input_npy::parse_npz(bytes, unpack_limit)?,
+        Format::Csv | Format::Auto => parse_csv(text()?)?,
     };
     match parsed {
         Parsed::Trace(t) => Ok((Input::Trace(t), Vec::new())),

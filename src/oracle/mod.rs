@@ -17,7 +17,9 @@
 //! - [`columns`]: the column schema of the particles, declared once;
 //! - [`input`]: the other code's particles or trace, in CSV or JSON,
 //!   read strictly ([`input_json`] for JSON, [`input_dump`] for LAMMPS-style
-//!   dump files) into a [`table`] of named columns;
+//!   dump files, [`input_vtk`] and [`input_vtk_xml`] for VTK, [`input_npy`]
+//!   and [`npy_header`] for NumPy, [`binary`] for their raw numbers) into a [`table`] of named
+//!   columns;
 //! - [`provenance`]: whether a file is of the run it is compared with;
 //! - [`state`]: hompm's particles as the check's table, and the matching
 //!   of the other code's particles;
@@ -28,10 +30,11 @@
 //! - [`convergence`](mod@convergence): observed orders over resolutions;
 //! - [`visibility`]: what the tolerance can see at a check's Δt.
 //!
-//! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`input_dump`], [`table`], [`provenance`], [`state`],
+//! Items: [`columns`], [`setup`], [`exact`], [`run`], [`equations`], [`trace`], [`input`], [`input_json`], [`input_dump`], [`input_vtk`], [`input_vtk_xml`], [`input_npy`], [`npy_header`], [`binary`], [`table`], [`provenance`], [`state`],
 //! [`check`](mod@check), [`compare`], [`convergence`](mod@convergence), [`visibility`],
 //! [`method_label_1d`], [`conventions_suffix`], [`INPUT_MEMORY_FACTOR`].
 
+pub mod binary;
 pub mod check;
 pub mod columns;
 pub mod compare;
@@ -41,6 +44,10 @@ pub mod exact;
 pub mod input;
 pub mod input_dump;
 pub mod input_json;
+pub mod input_npy;
+pub mod input_vtk;
+pub mod input_vtk_xml;
+pub mod npy_header;
 pub mod provenance;
 pub mod run;
 pub mod setup;

@@ -22,13 +22,14 @@ use crate::oracle::visibility::time_resolution;
 
 /// Reads and parses one input file.
 fn read(path: &std::path::Path, a: &CheckArgs, limits: &Limits) -> Result<(Input, Vec<String>)> {
-    let text = read_input(path, limits.max_memory)?;
+    let bytes = read_input(path, limits.max_memory)?;
     parse_input_as(
-        &text,
+        &bytes,
         a.format,
         a.dump_step,
         &ColumnMap::parse(&a.columns)?,
         a.setup.two_d(),
+        limits.max_memory / crate::oracle::INPUT_MEMORY_FACTOR,
     )
 }
 

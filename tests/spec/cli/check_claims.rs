@@ -779,3 +779,52 @@ fn an_array_of_row_objects_is_read_as_columns_and_every_row_must_have_row_1_s_ke
         "row 2 is a number, not a particle object",
     );
 }
+
+#[test]
+fn an_agreeing_verdict_says_what_share_of_the_tolerance_its_largest_difference_used() {
+    // The shear stress σ_xy of the aligned vibration is about 1e-6 of
+    // max|σ|. Moved by half the stress's absolute tolerance it differs by
+    // far more than rtol = 1e-9 of its own size, yet the value agrees. The
+    // headline must not read as a relative agreement worse than the
+    // tolerance (issue #36: Karamelo's 4096-cell u, 6.0e-7 relative): it
+    // names the share, 0.5, and says the relative figure is at values the
+    // absolute tolerance covers.
+    let setup: &[&str] = &[
+        "aligned-vibration",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+    ];
+    let base = doc("run", setup);
+    let own = agrees(check(setup, "own-share.json", &base, &["--json"]));
+    let own = json_of(&own);
+    let verdict = own["verdict"].as_str().unwrap();
+    assert!(
+        verdict.contains("bit for bit") && !verdict.contains("of its tolerance"),
+        "{verdict}"
+    );
+    let atol = own["fields"]["stress"]["atol_abs"].as_f64().unwrap();
+    let xy = |d: &Value, k: usize| d["particles"]["stress"][k][1].as_f64().unwrap();
+    let n = base["particles"]["stress"].as_array().unwrap().len();
+    let k = (0..n)
+        .max_by(|&a, &b| xy(&base, a).abs().total_cmp(&xy(&base, b).abs()))
+        .unwrap();
+    let mut d = base.clone();
+    d["particles"]["stress"][k][1] = json!(xy(&base, k) + 0.5 * atol);
+    let moved = xy(&d, k) - xy(&base, k);
+    assert!(moved.abs() / xy(&base, k).abs() > 1e-9);
+    let out = json_of(&agrees(check(setup, "share.json", &d, &["--json"])));
+    let share = out["fields"]["stress"]["max_times_tolerance"]
+        .as_f64()
+        .unwrap();
+    approx::assert_relative_eq!(share, moved.abs() / atol, max_relative = 1e-12);
+    let verdict = out["verdict"].as_str().unwrap();
+    assert!(
+        verdict.contains("at values the absolute tolerance covers")
+            && verdict.contains("the largest difference is 0.500 of its tolerance, in stress"),
+        "{verdict}"
+    );
+}

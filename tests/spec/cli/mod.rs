@@ -7,5 +7,6 @@ mod cli_fuzz;
 mod commands;
 mod conventions_cli;
 mod dump_input;
+mod formats_input;
 mod oracle;
 mod oracle_doc;
