@@ -42,7 +42,8 @@
 #      one of 1e15 or more overflows the 30-character buffer; print "%.17g",
 #      which round-trips every double between 1e-5 and 1e17.
 #
-# Cases (all on one rank, P1 "linear" shape functions, ulmpm, set_dt):
+# Cases (all on one rank, ulmpm, set_dt; P1 "linear" shape functions
+# unless the name says bspline):
 #   bar16-musl-flip1, bar16-usl-flip1, bar16-usf-flip1, bar16-musl-flip0.99:
 #       the thesis bar (Table 4.1: L = 25, E = 100, rho = 1, v0 = 0.1,
 #       v(x,0) = v0 sin(pi x/L), both end nodes fixed), 16 cells, 4 particles
@@ -51,6 +52,14 @@
 #   bar4096-musl-flip1, bar4096-usl-flip1, bar4096-usf-flip1,
 #   bar4096-musl-flip0.99: the same four on 4096 cells (BAR4096_STEPS
 #       steps, default 1999).
+#   bar16-bspline2, bar16-bspline3: the MUSL, FLIP 1 bar with Karamelo's
+#       quadratic-spline and cubic-spline shape functions (its
+#       boundary-modified uniform B-splines), checked with
+#       --method bsmpm --degree 2|3 --knots natural.
+#   bar4096-bspline2, bar4096-bspline3 (only when CASES names them): the
+#       same on 4096 cells. The cubic one differs in stress by 1.1e-12
+#       absolute, Karamelo's rounding (docs/oracle.md, "Recipes by code"),
+#       so the script then exits 1.
 #   av8-musl-flip1: hompm's aligned vibration (neo-Hookean, E = 1e7,
 #       nu = 0.3, rho0 = 1000, A = 0.1, L = 1), 8 x 8 cells, 2 x 2 particles
 #       per cell, dt = 1e-5, 1000 steps, the manufactured body force applied
@@ -129,7 +138,7 @@ git -C "$checkout" rev-parse HEAD > "$out/karamelo-commit.txt" 2>/dev/null || ec
 # (Karamelo reads "aeb" as a*pow(10,b)); dt = 1/100000 is one correctly
 # rounded division.
 
-# bar_input SCHEME FLIP CELLS STEPS DUMP_EVERY
+# bar_input SCHEME FLIP CELLS STEPS DUMP_EVERY [SHAPE, default linear]
 bar_input() {
     cat <<EOF
 # Thesis Table 4.1 vibrating bar, hompm's layout (written by scripts/karamelo_check.sh)
@@ -141,7 +150,7 @@ v0 = 1/10
 N = $3
 h = L/N
 alpha = $2
-method(ulmpm, FLIP, linear, alpha)
+method(ulmpm, FLIP, ${6:-linear}, alpha)
 scheme($1)
 dimension(1, 0, L, h)
 region(box, block, 0, L)
@@ -214,7 +223,7 @@ EOF
 
 # ---- cases ----------------------------------------------------------------
 steps4096=${BAR4096_STEPS:-1999}
-all_cases="bar16-musl-flip1 bar16-usl-flip1 bar16-usf-flip1 bar16-musl-flip0.99 bar4096-musl-flip1 bar4096-usl-flip1 bar4096-usf-flip1 bar4096-musl-flip0.99 av8-musl-flip1"
+all_cases="bar16-musl-flip1 bar16-usl-flip1 bar16-usf-flip1 bar16-musl-flip0.99 bar4096-musl-flip1 bar4096-usl-flip1 bar4096-usf-flip1 bar4096-musl-flip0.99 av8-musl-flip1 bar16-bspline2 bar16-bspline3"
 cases=${CASES:-$all_cases}
 
 input_of() { # case, steps, dump_every
@@ -227,6 +236,10 @@ input_of() { # case, steps, dump_every
         bar4096-usl-flip1) bar_input usl 1 4096 "$2" "$3" ;;
         bar4096-usf-flip1) bar_input usf 1 4096 "$2" "$3" ;;
         bar4096-musl-flip0.99) bar_input musl 99/100 4096 "$2" "$3" ;;
+        bar16-bspline2) bar_input musl 1 16 "$2" "$3" quadratic-spline ;;
+        bar16-bspline3) bar_input musl 1 16 "$2" "$3" cubic-spline ;;
+        bar4096-bspline2) bar_input musl 1 4096 "$2" "$3" quadratic-spline ;;
+        bar4096-bspline3) bar_input musl 1 4096 "$2" "$3" cubic-spline ;;
         av8-musl-flip1) av_input "$2" "$3" ;;
         *) echo "unknown case $1" >&2; exit 2 ;;
     esac
@@ -281,6 +294,8 @@ conventions_of() {
         bar16-usl-flip1|bar4096-usl-flip1) echo "--scheme usl" ;;
         bar16-usf-flip1|bar4096-usf-flip1) echo "--scheme usf" ;;
         bar16-musl-flip0.99|bar4096-musl-flip0.99) echo "--positions grid --transfer flip:0.99" ;;
+        bar16-bspline2|bar4096-bspline2) echo "--method bsmpm --degree 2 --knots natural --positions grid" ;;
+        bar16-bspline3|bar4096-bspline3) echo "--method bsmpm --degree 3 --knots natural --positions grid" ;;
         av8-musl-flip1) echo "--body-force nodes" ;;
     esac
 }

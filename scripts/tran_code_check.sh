@@ -2,8 +2,9 @@
 # Runs the MLS paper's own Matlab code (Tran et al., "Moving least squares
 # reconstruction for B-spline MPM"; the first commit, f30bc24, 2019-12-19,
 # of QuocAnh90/CPLS-least-squares-for-Material-Point-Method) under GNU Octave
-# on its manufactured-solution vibration of a strip, and writes what it
-# computes as CSV (issue #40). Outside CI: it needs Octave (Debian's
+# on its manufactured-solution vibration of a strip, writes what it
+# computes as CSV, and checks each strip file with `hompm check
+# manufactured-strip` (issue #40). Outside CI: it needs Octave (Debian's
 # octave-cli) and a checkout of that repository, whose path is the first
 # argument. It fetches nothing and copies none of that code into this
 # repository: it copies the checkout into a temporary directory, applies two
@@ -19,9 +20,10 @@
 #
 # Output in OUT:
 #   strip-METHOD-N.csv   final particles of Vibration(METHOD, N), columns
-#                        id,x0,x,u,v,stress,F,volume (x components; stress is
-#                        the code's Cauchy sigma_xx, F its F_xx, volume its
-#                        particle area V0*det F); '# ' comment lines carry
+#                        id,x0,x,u,v,stress,F,area (x components; stress is
+#                        the code's Cauchy sigma_xx, F its F_xx, area its
+#                        particle area V0*det F: not hompm's 1D volume, so
+#                        not compared); '# ' comment lines carry
 #                        cells, steps, dt, time and the code's RMS errors
 #   square-METHOD-N.csv  the same for Vibration2D (x and y components)
 #   errors.csv           one line per case: the code's own RMS errors (the
@@ -113,7 +115,7 @@ fprintf(f, '# exact solution evaluated at: %.17g\n', te);
 fprintf(f, '# rms (code): u %.17g, v %.17g, stress %.17g\n', results);
 fprintf(f, '# rms (driver): u %.17g, v %.17g, stress %.17g\n', re);
 if dim == 1
-  fprintf(f, 'id,x0,x,u,v,stress,F,volume\n');
+  fprintf(f, 'id,x0,x,u,v,stress,F,area\n');
   fprintf(f, '%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n', ...
     [(1:n)', x_spo(:,1), x_sp(:,1), d_sp(:,1), v_ssp(:,1), s_sp(:,1), F(:,1), V_sp(:)].');
 else
@@ -158,7 +160,32 @@ for method in $methods_2d; do
 done
 echo "errors: $summary"
 
-# TODO(#40): compare with hompm once it has a strip scene, e.g.
-#   "$hompm" check manufactured-strip --method mpm|bsmpm|mls --cells N \
-#     --input "$out/strip-METHOD-N.csv" …
-# (flags to be settled with the scene; nothing here calls hompm yet).
+# Each strip file checked with one `hompm check` line (issue #40): the
+# code's MPM is MUSL moving particles with the updated grid momentum
+# (--positions grid), its BSMPM is USL (--scheme usl); Δt and steps are the
+# file's own. Its MLS_BSMPM has no hompm counterpart and is not checked.
+hompm=${HOMPM:-$(cd "$(dirname "$0")/.." && pwd)/target/release/hompm}
+if [ -z "${HOMPM:-}" ] && [ ! -x "$hompm" ]; then
+  (cd "$(dirname "$0")/.." && cargo build --release --quiet)
+fi
+[ -x "$hompm" ] || { echo "tran_code_check.sh: HOMPM=$hompm is not executable" >&2; exit 2; }
+agreed=0 checked=0
+for method in $methods_1d; do
+  case $method in
+    MPM) flags="--method mpm --positions grid" ;;
+    BSMPM) flags="--method bsmpm --degree 2 --scheme usl" ;;
+    *) echo "== strip-$method: not checked (hompm has no 1D MLS of this code's)"; continue ;;
+  esac
+  for cells in $cells_1d; do
+    f=$out/strip-$method-$cells.csv
+    [ -f "$f" ] || continue
+    dt=$(sed -n 's/^# dt: //p' "$f"); steps=$(sed -n 's/^# steps: //p' "$f")
+    # shellcheck disable=SC2086
+    verdict=$("$hompm" check manufactured-strip --params mls-paper-code $flags --cells "$cells" --ppc 5 \
+      --dt "$dt" --steps "$steps" --input "$f" 2> /dev/null | head -n 1) || true
+    checked=$((checked + 1))
+    case $verdict in agrees*) agreed=$((agreed + 1)) ;; esac
+    echo "== check strip-$method-$cells ($flags): ${verdict:-error}"
+  done
+done
+echo "checks: $agreed of $checked agree"

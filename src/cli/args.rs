@@ -215,6 +215,9 @@ pub enum SceneArg {
     /// MLS paper: the 2D manufactured neo-Hookean vibration (methods mpm,
     /// bsmpm, bsmpm-mls, bsmpm-tls, tl-fe).
     AlignedVibration,
+    /// The MLS paper's code: its 1D manufactured neo-Hookean strip, in the
+    /// code's coordinates (--params mls-paper-code; issue #40).
+    ManufacturedStrip,
 }
 
 /// The name clap knows a value by (`mpm-p2`, `cubic-spline`, …).

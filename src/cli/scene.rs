@@ -91,6 +91,7 @@ fn params_json(scene: &Scene1d) -> Result<serde_json::Value> {
     match scene {
         Scene1d::VibratingBar(p) => to_json(p),
         Scene1d::Column(p) => to_json(p),
+        Scene1d::ManufacturedStrip(p) => to_json(p),
     }
 }
 

@@ -144,7 +144,7 @@ pub struct SetupArgs {
     /// Where the body force is evaluated; default particles.
     #[arg(long = "body-force", value_parser = convention::<BodyForceAt>, help = convention_help("body-force"))]
     pub body_force: Option<BodyForceAt>,
-    /// The B-spline knots (2D); default open.
+    /// The B-spline knots (padded: 2D; natural: 1D); default open.
     #[arg(long, value_parser = convention::<Knots>, help = convention_help("knots"))]
     pub knots: Option<Knots>,
     /// The velocity gradient and internal force (2D); default basis.
@@ -383,6 +383,7 @@ impl SetupArgs {
             discretisation.force_mapping == Mapping::Direct
                 && discretisation.velocity_mapping == Mapping::Direct
                 && discretisation.mass == MassMatrix::Lumped,
+            method,
         )?;
         let scene = match scene {
             SceneArg::VibratingBar => Scene1d::bar(
@@ -392,6 +393,11 @@ impl SetupArgs {
             SceneArg::ColumnSelfWeight => Scene1d::column(
                 self.params.as_deref().unwrap_or("thesis-table-4.3"),
                 &overrides,
+            )?,
+            SceneArg::ManufacturedStrip => Scene1d::strip(
+                self.params.as_deref().unwrap_or("mls-paper-code"),
+                &overrides,
+                cells,
             )?,
             _ => Scene1d::column(
                 self.params.as_deref().unwrap_or("thesis-table-8.1"),

@@ -67,6 +67,11 @@ impl Ulfem {
             constitutive,
             gravity,
         } = material;
+        if constitutive == Constitutive::NeoHookean {
+            return Err(Error::InvalidArgument(
+                "the ULFEM reference runs the book's incremental laws (Eqs. 4.15, 4.16), not the neo-Hookean one".into(),
+            ));
+        }
         finite("length", length)?;
         if length <= 0.0 || elements == 0 || density <= 0.0 || young <= 0.0 {
             return Err(Error::InvalidArgument(
@@ -126,6 +131,8 @@ impl Ulfem {
             self.stress[e] += match self.constitutive {
                 Constitutive::SmallStrain => self.young * deps,
                 Constitutive::LargeStrain => (self.young - self.stress[e]) * deps,
+                // Refused by `Ulfem::new`: the reference is incremental.
+                Constitutive::NeoHookean => f64::NAN,
             };
         }
         for (x, d) in self.x.iter_mut().zip(&du) {

@@ -27,13 +27,15 @@
 //! Dirichlet DOF it is 0. The updated grid velocity is ṽ_i = v_i^n + Δt a_i
 //! (MLS paper Eqs. 27–28, written per unit mass), 0 on a Dirichlet DOF.
 //!
-//! - [`Knots`] (`--knots`) and [`Gradient`] (`--gradient`), 2D only: Taichi's
+//! - [`Knots`] (`--knots`) and [`Gradient`] (`--gradient`): Taichi's
 //!   padded uniform quadratic B-splines and the MLS-MPM gradient from APIC's
-//!   C_p (Hu et al. 2018).
+//!   C_p (Hu et al. 2018), 2D only; Karamelo's boundary-modified uniform
+//!   B-splines of degree 2 and 3 (`--knots natural`, 1D only).
 //!
 //! Items: [`Scheme`], [`Transfer`], [`Positions`], [`BodyForceAt`], [`Knots`], [`Gradient`],
 //! [`Conventions`], [`ConventionInfo`], [`REGISTRY`], [`registered`].
 
+use super::method::Method;
 use crate::error::{Error, Result};
 use serde::{Serialize, Serializer};
 
@@ -205,6 +207,11 @@ pub enum Knots {
     /// Uniform node-centred quadratic B-splines, nodes at i·h for
     /// i = −1 … cells + 1 (Taichi).
     Padded,
+    /// Uniform node-centred B-splines of degree 2 or 3 on the nodes
+    /// i·h, i = 0 … cells, the ghost function beyond each wall folded into
+    /// the two nearest nodes (Karamelo src/basis_functions.h, read, not
+    /// copied; `spline::natural`).
+    Natural,
 }
 
 impl Knots {
@@ -213,6 +220,7 @@ impl Knots {
         match self {
             Knots::Open => "open",
             Knots::Padded => "padded",
+            Knots::Natural => "natural",
         }
     }
 
@@ -220,6 +228,7 @@ impl Knots {
     pub fn from_name(name: &str) -> Result<Self> {
         Ok(match lookup("knots", name)?.value {
             "padded" => Knots::Padded,
+            "natural" => Knots::Natural,
             _ => Knots::Open,
         })
     }
@@ -369,9 +378,11 @@ impl Conventions {
     }
 
     /// Where the 1D step takes these (`plain`: the direct mapping with a
-    /// lumped mass): [`Self::validate`], none of the 2D-only conventions,
-    /// and another code's step only with a plain mapping.
-    pub fn check_1d(&self, plain: bool) -> Result<()> {
+    /// lumped mass) on a grid of `method`: [`Self::validate`], none of the
+    /// 2D-only conventions, another code's step only with a plain mapping,
+    /// and natural knots with a plain mapping of B-splines of degree 2 or 3
+    /// (Karamelo's splines).
+    pub fn check_1d(&self, plain: bool, method: Method) -> Result<()> {
         self.validate()?;
         if self.is_two_d_only() {
             return Err(Error::InvalidArgument(format!(
@@ -379,10 +390,17 @@ impl Conventions {
                 self.flags(1).join(" ")
             )));
         }
-        if self.needs_grid_velocity() && !plain {
+        let natural = self.knots == Knots::Natural;
+        if (self.needs_grid_velocity() || natural) && !plain {
             return Err(Error::InvalidArgument(format!(
                 "{} is defined for the direct mapping with a lumped mass",
                 self.flags(1).join(" ")
+            )));
+        }
+        if natural && !matches!(method, Method::Bsmpm { degree: 2 | 3 }) {
+            return Err(Error::InvalidArgument(format!(
+                "--knots natural is Karamelo's quadratic and cubic splines only: use --method bsmpm --degree 2 or 3, not {}",
+                method.label()
             )));
         }
         Ok(())
@@ -398,6 +416,11 @@ impl Conventions {
         if self.scheme == Scheme::Usf {
             return Err(Error::InvalidArgument(
                 "--scheme usf is 1D only; the 2D step has musl and usl".into(),
+            ));
+        }
+        if self.knots == Knots::Natural {
+            return Err(Error::InvalidArgument(
+                "--knots natural is 1D only (Karamelo's 1D splines); the 2D grid has open and padded knots".into(),
             ));
         }
         if self.is_two_d_only() && !(direct && quadratic_bspline) {

@@ -8,6 +8,7 @@
 //! | `mpm-p2` | P2 Lagrange | ∇φ_i | thesis §5.2 |
 //! | `ddmpm` | P1 Lagrange | ∇̄φ_i = α∇φ_i + (1−α)∇̃φ_i | TLS paper §3.3 |
 //! | `bsmpm` | B-splines, degree p, open uniform knots | ∇φ_i | book §4.3, thesis §6.2 |
+//! | `bsmpm` with `--knots natural` | Karamelo's boundary-modified uniform B-splines, p = 2, 3 ([`NaturalSplines`]) | ∇φ_i | issue #36 |
 //!
 //! DDMPM (TLS paper §3.3): ∇̃φ_i(x) = Σ_j φ_j(x)/V_j ∫_Ω φ_j ∇φ_i dΩ with
 //! V_j = ∫_Ω φ_j dΩ, blended by α(x) = 2 Σ_i φ_i(x) φ_{i+1}(x), which vanishes
@@ -37,13 +38,14 @@
 //!
 //! Items: [`Shape`], [`Grid`].
 
+use super::conventions::Knots;
 pub use super::method::{Method, MethodFamily, NodeIntegrals, METHOD_FAMILIES};
 use crate::basis::{with_width, Basis1d, Stencils};
 use crate::error::{Error, Result};
 use crate::lagrange::{LagrangeBasis, LagrangeOrder};
 use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
-use crate::spline::KnotVector;
+use crate::spline::{KnotVector, NaturalSplines};
 
 /// Values and (possibly modified) gradients of the basis at one point, over
 /// the index range `first .. first + values.len()`.
@@ -86,12 +88,13 @@ impl DualDomain {
     }
 }
 
-/// The two families of grid bases, held concretely so that the per-particle
+/// The families of grid bases, held concretely so that the per-particle
 /// evaluation is a direct call.
 #[derive(Debug, Clone)]
 enum GridBasis {
     Lagrange(LagrangeBasis),
     BSpline(KnotVector),
+    Natural(NaturalSplines),
 }
 
 /// The background grid.
@@ -106,6 +109,10 @@ pub struct Grid {
     breaks: Vec<f64>,
     /// cells/(b − a): turns a position into a guess of its cell.
     cells_per_length: f64,
+    /// The node spacing h ([`Grid::cell_size`]).
+    spacing: f64,
+    /// The knots of a B-spline grid (`Open` for Lagrange grids).
+    knots: Knots,
 }
 
 impl std::fmt::Debug for Grid {
@@ -171,7 +178,43 @@ impl Grid {
         let h = (b - a) / cells as f64;
         let knots = (0..cells + 6).map(|j| a + (j as f64 - 2.5) * h).collect();
         let basis = GridBasis::BSpline(KnotVector::new(knots, 2)?);
-        Self::with_basis(Method::Bsmpm { degree: 2 }, basis, cells + 1)
+        let mut grid = Self::with_basis(Method::Bsmpm { degree: 2 }, basis, cells + 1)?;
+        grid.knots = Knots::Padded;
+        Ok(grid)
+    }
+
+    /// Karamelo's grid on [a, b] (`--knots natural`, `mpm::conventions`):
+    /// the N + 1 boundary-modified uniform B-splines of degree 2 or 3 of
+    /// [`NaturalSplines`], one per node a + k·h, k = 0 … cells. Its cells
+    /// are the polynomial pieces (N + 1 for p = 2, whose breakpoints sit at
+    /// the half cells; N for p = 3); [`Grid::cell_size`] is h.
+    /// Karamelo src/basis_functions.h (read, not copied); issue #36.
+    pub fn natural(a: f64, b: f64, cells: usize, degree: usize) -> Result<Self> {
+        let basis = NaturalSplines::new(a, b, cells, degree)?;
+        let pieces = basis.cells().len();
+        let mut grid =
+            Self::with_basis(Method::Bsmpm { degree }, GridBasis::Natural(basis), pieces)?;
+        grid.spacing = (b - a) / cells as f64;
+        grid.knots = Knots::Natural;
+        Ok(grid)
+    }
+
+    /// The 1D grid of `method` with `knots` on [a, b]: [`Grid::new`] for
+    /// open knots, [`Grid::natural`] for natural ones (B-splines of degree
+    /// 2 or 3). Padded knots are the 2D grid's ([`Grid::padded_quadratic`]).
+    /// docs/conventions.md, "Conventions of other codes" (issue #36).
+    pub fn with_knots(method: Method, a: f64, b: f64, cells: usize, knots: Knots) -> Result<Self> {
+        match (knots, method) {
+            (Knots::Open, _) => Self::new(method, a, b, cells),
+            (Knots::Natural, Method::Bsmpm { degree }) => Self::natural(a, b, cells, degree),
+            (Knots::Natural, _) => Err(Error::InvalidArgument(format!(
+                "--knots natural is Karamelo's quadratic and cubic splines: use --method bsmpm --degree 2 or 3, not {}",
+                method.label()
+            ))),
+            (Knots::Padded, _) => Err(Error::InvalidArgument(
+                "--knots padded is the 2D grid's (Taichi's)".into(),
+            )),
+        }
     }
 
     /// The grid of a basis with `cells` spans.
@@ -184,9 +227,12 @@ impl Grid {
             boundaries: Vec::new(),
             breaks: Vec::new(),
             cells_per_length: 0.0,
+            spacing: 0.0,
+            knots: Knots::Open,
         };
         let (a0, b0) = grid.basis().domain();
         grid.cells_per_length = cells as f64 / (b0 - a0);
+        grid.spacing = (b0 - a0) / cells as f64;
         let spans = grid.basis().cells();
         grid.boundaries = std::iter::once(spans[0].0)
             .chain(spans.iter().map(|c| c.1))
@@ -238,10 +284,16 @@ impl Grid {
         self.basis().domain()
     }
 
-    /// Element (or knot-span) size h.
+    /// Element (or knot-span) size h; the node spacing with natural knots.
     pub fn cell_size(&self) -> f64 {
-        let (a, b) = self.domain();
-        (b - a) / self.cells as f64
+        self.spacing
+    }
+
+    /// The knots of the grid: open for [`Grid::new`] (and the Lagrange
+    /// grids), padded or natural for [`Grid::padded_quadratic`] and
+    /// [`Grid::natural`]. docs/conventions.md (issue #36).
+    pub fn knots(&self) -> Knots {
+        self.knots
     }
 
     /// The cells (elements or non-empty knot spans).
@@ -269,6 +321,7 @@ impl Grid {
         match &self.basis {
             GridBasis::Lagrange(l) => l,
             GridBasis::BSpline(k) => k,
+            GridBasis::Natural(n) => n,
         }
     }
 
@@ -408,6 +461,7 @@ impl Grid {
             (GridBasis::BSpline(kv), _) => {
                 kv.values_and_gradients_into(x, scratch, values, gradients)
             }
+            (GridBasis::Natural(n), _) => n.values_and_gradients_into(x, values, gradients),
         }
     }
 

@@ -44,9 +44,11 @@ use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
 use super::mapping::{internal_force, project_velocity};
 use super::particles::Particles;
-pub use super::settings::{Constitutive, Settings};
+pub use super::settings::{BodyForceField, Constitutive, Settings};
 pub use super::workspace::StepWorkspace;
+pub use manufactured::neo_hookean_1d;
 
+mod manufactured;
 mod other_codes;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
@@ -151,14 +153,8 @@ impl Simulation {
                 grid.num_dofs()
             )));
         }
-        if settings.young.is_nan() || settings.young <= 0.0 {
-            return Err(Error::InvalidArgument(format!(
-                "Young's modulus must be positive, got {}",
-                settings.young
-            )));
-        }
-        crate::error::finite("gravity", settings.gravity)?;
-        check_conventions(&settings)?;
+        manufactured::check_material(&settings)?;
+        check_conventions(&settings, &grid)?;
         let diagnostics = RunDiagnostics {
             min_lumped_mass: f64::INFINITY,
             min_mass_diagonal_ratio: f64::INFINITY,
@@ -322,6 +318,7 @@ impl Simulation {
             ws.stencils
                 .scatter_values(|k| p.traction[k], &mut ws.traction_force);
         }
+        self.map_body_force_field();
     }
 
     /// Step 1, book Eq. (4.6) (or Eq. 4.38 with TLS, thesis §7.2 with
@@ -497,12 +494,16 @@ impl Simulation {
                     *s += (young - *s) * de;
                 }
             }
+            Constitutive::NeoHookean => self.update_neo_hookean_stresses(),
         }
     }
 
     /// Step 8, book Eqs. (4.17)–(4.18): V_p ← (1 + Δε_p) V_p,
     /// ρ_p ← ρ_p / (1 + Δε_p); the accumulated strain ε_p grows by Δε_p.
     fn update_volumes_and_densities(&mut self) {
+        if self.settings.constitutive == Constitutive::NeoHookean {
+            return self.update_neo_hookean_volumes();
+        }
         let p = &mut self.particles;
         for (k, &de) in self.workspace.strain_increment.iter().enumerate() {
             p.volume[k] *= 1.0 + de;

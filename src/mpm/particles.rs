@@ -33,6 +33,11 @@ pub struct Particles {
     pub traction: Vec<f64>,
     /// Accumulated strain ε_p = Σ Δε_p (for the maximal-strain diagnostic).
     pub strain: Vec<f64>,
+    /// Deformation gradients F_p ← (1 + Δε_p) F_p, kept by the neo-Hookean
+    /// law only (1 otherwise; [`super::settings::Constitutive::NeoHookean`]).
+    pub deformation: Vec<f64>,
+    /// Initial volumes V_p⁰ (the neo-Hookean law's V_p = V_p⁰ F_p).
+    pub initial_volume: Vec<f64>,
 }
 
 impl Particles {
@@ -75,6 +80,8 @@ impl Particles {
         }
         let mass = volume.iter().zip(&density).map(|(v, r)| v * r).collect();
         Ok(Self {
+            deformation: vec![1.0; n],
+            initial_volume: volume.clone(),
             x: x0.clone(),
             x0,
             displacement: vec![0.0; n],

@@ -8,7 +8,7 @@
 //! fit's cell average, and the conventions of other codes
 //! ([`super::conventions`]).
 //!
-//! Items: [`Constitutive`], [`Settings`].
+//! Items: [`Constitutive`], [`BodyForceField`], [`Settings`].
 
 use super::conventions::Conventions;
 use super::mapping::{Mapping, MassMatrix};
@@ -23,6 +23,43 @@ pub enum Constitutive {
     SmallStrain,
     /// σ ← σ + (E − σ) Δε (book Eq. 4.16).
     LargeStrain,
+    /// The neo-Hookean law in one dimension (F_yy = F_zz = 1):
+    /// F_p ← (1 + Δε_p) F_p, V_p = V_p⁰ F_p, ρ_p = m_p/V_p and
+    /// σ_p = (λ ln F_p + μ(F_p² − 1))/F_p, with λ and μ of
+    /// [`Settings::young`] and [`Settings::poisson`] (MLS paper Eq. 37 with
+    /// J = F; its code's `Update_Stress.m` and `Neo_Hookean_elastic.m`, as
+    /// `BSMPM_solvertest.m` runs them on its strip; issue #40).
+    NeoHookean,
+}
+
+/// A body force per unit mass b(X, t) given by a formula of the initial
+/// position and the time, mapped as Σ_p m_p b(X_p, tⁿ) φ_i(x_p) at the
+/// start of each step (a manufactured solution's source term; the MLS
+/// paper's code evaluates it so in `Vibration.m` before each solver call).
+#[derive(Clone)]
+pub struct BodyForceField {
+    /// What the formula is, for the run document.
+    pub name: &'static str,
+    /// b(X, t).
+    pub at: std::sync::Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>,
+}
+
+impl std::fmt::Debug for BodyForceField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "BodyForceField({})", self.name)
+    }
+}
+
+impl PartialEq for BodyForceField {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name && std::sync::Arc::ptr_eq(&self.at, &other.at)
+    }
+}
+
+impl Serialize for BodyForceField {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name)
+    }
 }
 
 /// Everything a run needs besides the grid and the particles.
@@ -38,8 +75,16 @@ pub struct Settings {
     pub constitutive: Constitutive,
     /// Young's modulus E.
     pub young: f64,
+    /// Poisson's ratio ν, read only by [`Constitutive::NeoHookean`]
+    /// (λ = Eν/((1 + ν)(1 − 2ν)), μ = E/(2(1 + ν))). Not printed when 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub poisson: f64,
     /// Gravitational acceleration g (signed: −9.81 points down the axis).
     pub gravity: f64,
+    /// A body force b(X, t) per unit mass besides gravity (a manufactured
+    /// solution's). Not printed when absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body_force: Option<BodyForceField>,
     /// If set, gravity ramps linearly from 0 to `gravity` over this time and
     /// then stays (the body force of the column compaction, TLS paper §6.2).
     pub gravity_ramp: Option<f64>,
@@ -57,4 +102,17 @@ pub struct Settings {
     /// unless another code's are asked for). Not printed when the book's.
     #[serde(skip_serializing_if = "Conventions::is_book")]
     pub conventions: Conventions,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+impl Settings {
+    /// Lamé's λ and μ of E and ν.
+    pub fn lame(&self) -> (f64, f64) {
+        let (e, nu) = (self.young, self.poisson);
+        // In the order of the MLS paper's code (`Vibration.m`, lines 25–26).
+        (e * nu / (1.0 + nu) / (1.0 - 2.0 * nu), e / 2.0 / (1.0 + nu))
+    }
 }

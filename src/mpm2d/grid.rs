@@ -86,6 +86,11 @@ impl Grid2d {
                 "--knots padded is Taichi's quadratic B-spline grid: use --method bsmpm --degree 2"
                     .into(),
             )),
+            (Knots::Natural, _) => {
+                return Err(Error::InvalidArgument(
+                    "--knots natural is 1D only (Karamelo's 1D splines)".into(),
+                ))
+            }
         };
         let rule = GaussLegendre::new(2)?;
         let gauss_abscissae: Vec<f64> = axis
@@ -179,7 +184,7 @@ impl Grid2d {
     /// wall node and the one beyond it, as Taichi does).
     pub fn wall_rows(&self) -> usize {
         match self.knots {
-            Knots::Open => 1,
+            Knots::Open | Knots::Natural => 1,
             Knots::Padded => 2,
         }
     }

@@ -109,8 +109,9 @@ const fn eq2(
 /// The traced equations of the 1D MUSL step, in the order the step
 /// computes them (the order in which `hompm check` looks for the first
 /// difference). The stress key is `book-4.15` for the small-strain update
-/// and `book-4.16` for the large-strain one; both are listed.
-pub const EQUATIONS_1D: [Equation; 22] = [
+/// `book-4.16` for the large-strain one and `mls-37-1d` for the
+/// neo-Hookean one (the manufactured strip); all are listed.
+pub const EQUATIONS_1D: [Equation; 23] = [
     eq(
         "book-4.5",
         "m_i",
@@ -260,6 +261,14 @@ pub const EQUATIONS_1D: [Equation; 22] = [
         "σ_p",
         "the particle stress (large-strain update)",
         "book Eq. (4.16)",
+        IndexKind::Particle,
+        StepPoint::Stress,
+    ),
+    eq(
+        "mls-37-1d",
+        "σ_p",
+        "the particle stress (neo-Hookean, F_p ← (1 + Δε_p) F_p)",
+        "MLS paper Eq. (37) in 1D",
         IndexKind::Particle,
         StepPoint::Stress,
     ),

@@ -80,6 +80,17 @@ pub fn exact_1d(scene: &Scene1d, x0: f64, t: f64) -> Exact1d {
             }
             _ => column_closed_form(p, x0, within_period(t, 4.0 * p.height / p.wave_speed())),
         },
+        Scene1d::ManufacturedStrip(p) => {
+            let t = within_period(t, 2.0 * p.length / p.wave_speed());
+            let f = p.deformation(x0, t);
+            Exact1d {
+                x0,
+                u: p.displacement(x0, t),
+                v: p.velocity(x0, t),
+                strain: f - 1.0,
+                stress: p.stress(x0, t),
+            }
+        }
     }
 }
 
@@ -154,6 +165,8 @@ pub fn reference_kind(scene: &Scene1d) -> &'static str {
     let ramped = matches!(scene, Scene1d::Column(p) if p.ramp_time.is_some_and(|t| t > 0.0));
     if ramped {
         "quasi-static equilibrium of the ramped body force (TLS paper §6.2); not a solution of the dynamic problem"
+    } else if matches!(scene, Scene1d::ManufacturedStrip(_)) {
+        "manufactured solution of the run's own (neo-Hookean) model, exact with its body force"
     } else if scene.constitutive() == Constitutive::LargeStrain {
         "linear analytic solution (small strain); this set uses the large-strain update (book Eq. 4.16), so the error includes the difference of the models"
     } else {
@@ -185,6 +198,16 @@ pub fn formulas_1d(scene: &Scene1d) -> serde_json::Value {
             "v": "v = (c/2)[Ũ'(y − ct) − Ũ'(y + ct)]",
             "strain": "ε = u_s'(y) − ½[Ũ'(y − ct) + Ũ'(y + ct)]",
             "stress": "σ = E ε",
+        }),
+        Scene1d::ManufacturedStrip(p) => serde_json::json!({
+            "source": "the MLS paper's code, Vibration.m (f30bc24); MLS paper Eq. (37) in 1D",
+            "u": "u = A sin(π(X − a)/L) sin(cπt/L), c = √(E/ρ0)",
+            "v": "v = ∂u/∂t",
+            "F": "F = 1 + ∂u/∂X",
+            "strain": "ε = F − 1",
+            "stress": "σ = (λ ln F + μ(F² − 1))/F",
+            "body_force": "b = (π²u/(ρ0 L²))(λ(1 − ln F)/F² + μ(F² + 1)/F² − E)",
+            "a": p.left_end,
         }),
     }
 }
@@ -296,7 +319,7 @@ pub fn exact_table(
                 None => layout_1d(s1)?,
                 Some(at) => at.to_vec(),
             };
-            let (lo, hi) = (0.0, s1.scene.length());
+            let (lo, hi) = s1.scene.domain();
             for &x in &x0 {
                 if !(lo..=hi).contains(&x) {
                     return Err(Error::OutsideDomain { x, a: lo, b: hi });
@@ -411,5 +434,8 @@ fn layout_1d(s: &Setup1d) -> Result<Vec<f64>> {
             d.cells, d.ppc
         ))
     })?;
+    if let Scene1d::ManufacturedStrip(p) = &s.scene {
+        return Ok(p.initial_positions(d.cells, d.ppc));
+    }
     Ok(Particles::uniform(0.0, s.scene.length(), count, 1.0)?.x0)
 }

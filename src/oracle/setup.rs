@@ -19,6 +19,7 @@ use crate::mpm::conventions::Conventions;
 use crate::mpm::musl::{Constitutive, Simulation};
 use crate::scenes::aligned_vibration::{self, AlignedMethod, AlignedVibration, SolutionForm};
 use crate::scenes::column::{self, ColumnParameters};
+use crate::scenes::manufactured_strip::{self, StripParameters};
 use crate::scenes::vibrating_bar::{self, BarParameters};
 use crate::scenes::Discretisation;
 use serde::Serialize;
@@ -141,6 +142,9 @@ pub enum Scene1d {
     VibratingBar(BarParameters),
     /// The column under self-weight or a top load (thesis §4.2, §8.1).
     Column(ColumnParameters),
+    /// The manufactured strip of the MLS paper's code (issue #40), placed
+    /// for the run's cells.
+    ManufacturedStrip(StripParameters),
 }
 
 impl Scene1d {
@@ -182,11 +186,41 @@ impl Scene1d {
         Ok(Scene1d::Column(p))
     }
 
+    /// The strip with set `name` and the overrides, placed for `cells`.
+    pub fn strip(name: &str, o: &Overrides, cells: usize) -> Result<Self> {
+        o.allow_only(
+            "manufactured-strip",
+            &["young", "density", "poisson", "amplitude"],
+        )?;
+        let mut p = manufactured_strip::parameters(name)?;
+        override_with(&mut p.young, o.young, "young", positive)?;
+        override_with(&mut p.density, o.density, "density", positive)?;
+        override_with(&mut p.poisson, o.poisson, "poisson", finite)?;
+        override_with(&mut p.amplitude, o.amplitude, "amplitude", finite)?;
+        if !(p.poisson > -1.0 && p.poisson < 0.5) {
+            return Err(Error::InvalidArgument(format!(
+                "the neo-Hookean strip needs −1 < ν < 0.5, got {}",
+                p.poisson
+            )));
+        }
+        Ok(Scene1d::ManufacturedStrip(p.placed(cells.max(1))))
+    }
+
     /// The simulation of a discretisation at t = 0.
     pub fn simulation(&self, d: &Discretisation) -> Result<Simulation> {
         match self {
             Scene1d::VibratingBar(p) => p.simulation(d),
             Scene1d::Column(p) => p.simulation(d),
+            Scene1d::ManufacturedStrip(p) => p.simulation(d),
+        }
+    }
+
+    /// The body's initial extent [a, a + L]: a = 0 but for the strip,
+    /// which sits two ghost cells from the origin as its code's does.
+    pub fn domain(&self) -> (f64, f64) {
+        match self {
+            Scene1d::ManufacturedStrip(p) => (p.left_end, p.left_end + p.length),
+            _ => (0.0, self.length()),
         }
     }
 
@@ -195,6 +229,7 @@ impl Scene1d {
         match self {
             Scene1d::VibratingBar(p) => p.name,
             Scene1d::Column(p) => p.name,
+            Scene1d::ManufacturedStrip(p) => p.name,
         }
     }
 
@@ -203,6 +238,7 @@ impl Scene1d {
         match self {
             Scene1d::VibratingBar(p) => p.length,
             Scene1d::Column(p) => p.height,
+            Scene1d::ManufacturedStrip(p) => p.length,
         }
     }
 
@@ -211,6 +247,7 @@ impl Scene1d {
         match self {
             Scene1d::VibratingBar(p) => p.constitutive,
             Scene1d::Column(p) => p.constitutive,
+            Scene1d::ManufacturedStrip(_) => Constitutive::NeoHookean,
         }
     }
 }
@@ -320,6 +357,7 @@ impl Setup {
             Setup::OneD(s) => match s.scene {
                 Scene1d::VibratingBar(_) => &["vibrating-bar"],
                 Scene1d::Column(_) => &["column-self-weight", "column-top-load"],
+                Scene1d::ManufacturedStrip(_) => &["manufactured-strip"],
             },
             Setup::TwoD(_) => &["aligned-vibration"],
         }
@@ -369,6 +407,7 @@ pub fn parameter_sets() -> Result<serde_json::Value> {
         "vibrating-bar": to_json(&vibrating_bar::PARAMETER_SETS)?,
         "column-self-weight": to_json(&column::PARAMETER_SETS)?,
         "column-top-load": to_json(&column::PARAMETER_SETS)?,
+        "manufactured-strip": to_json(&manufactured_strip::PARAMETER_SETS)?,
         "aligned-vibration": aligned?,
     }))
 }

@@ -41,6 +41,7 @@ fn stress_key(c: Constitutive) -> &'static str {
     match c {
         Constitutive::SmallStrain => "book-4.15",
         Constitutive::LargeStrain => "book-4.16",
+        Constitutive::NeoHookean => "mls-37-1d",
     }
 }
 

@@ -141,7 +141,7 @@ impl ColumnParameters {
                 "cells and particles per cell must be positive".into(),
             ));
         }
-        let grid = Grid::new(d.method, 0.0, self.height, d.cells)?;
+        let grid = Grid::with_knots(d.method, 0.0, self.height, d.cells, d.conventions.knots)?;
         let mut particles = Particles::uniform(0.0, self.height, d.cells * d.ppc, self.density)?;
         let top = particles.len() - 1;
         particles.traction[top] = self.top_load;

@@ -11,11 +11,14 @@
 //!
 //! - [`aligned_vibration`]: the MLS paper's 2D manufactured neo-Hookean
 //!   vibration (Eqs. 38–42).
+//! - [`manufactured_strip`]: the 1D strip the MLS paper's own code runs
+//!   for its figures (issue #40).
 //!
-//! Items: [`Discretisation`], [`aligned_vibration`], [`column`](mod@column), [`vibrating_bar`].
+//! Items: [`Discretisation`], [`aligned_vibration`], [`column`](mod@column), [`manufactured_strip`], [`vibrating_bar`].
 
 pub mod aligned_vibration;
 pub mod column;
+pub mod manufactured_strip;
 pub mod vibrating_bar;
 
 use crate::mpm::conventions::Conventions;
@@ -85,7 +88,9 @@ impl Discretisation {
             mass: self.mass,
             constitutive,
             young,
+            poisson: 0.0,
             gravity,
+            body_force: None,
             gravity_ramp,
             dirichlet,
             consistent_acceleration: false,

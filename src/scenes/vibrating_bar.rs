@@ -131,7 +131,7 @@ impl BarParameters {
                 "cells and particles per cell must be positive".into(),
             ));
         }
-        let grid = Grid::new(d.method, 0.0, self.length, d.cells)?;
+        let grid = Grid::with_knots(d.method, 0.0, self.length, d.cells, d.conventions.knots)?;
         let mut particles = Particles::uniform(0.0, self.length, d.cells * d.ppc, self.density)?;
         for k in 0..particles.len() {
             particles.velocity[k] = self.velocity(particles.x0[k], 0.0);

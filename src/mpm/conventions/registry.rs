@@ -139,6 +139,14 @@ pub const REGISTRY: &[ConventionInfo] = &[
         trace_keys: &[],
     },
     ConventionInfo {
+        flag: "knots",
+        value: "natural",
+        help: "uniform node-centred B-splines of degree 2 or 3 on the nodes 0 … cells, the ghost function beyond each wall folded into the two nearest nodes (N_0 = B(ξ) + 2B(ξ+1), N_1 = B(ξ−1) − B(ξ+1); s'' = 0 at the walls); the wall condition on the wall node; 1D, with --method bsmpm --degree 2|3",
+        citation: "Karamelo src/basis_functions.h (read, not copied); docs/conventions.md, \"Conventions of other codes\"",
+        codes: "Karamelo quadratic-spline, cubic-spline",
+        trace_keys: &[],
+    },
+    ConventionInfo {
         flag: "gradient",
         value: "basis",
         help: "velocity gradient Σ v_i ⊗ ∇N_i and internal force −Σ V_p σ_p ∇N_i",

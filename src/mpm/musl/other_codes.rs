@@ -8,6 +8,8 @@
 //! calls them in place of, or besides, the book's.
 
 use super::{Particles, Result, Settings, Simulation, Stencils};
+use crate::error::Error;
+use crate::mpm::grid::Grid;
 use crate::mpm::mapping::{Mapping, MassMatrix};
 
 impl Simulation {
@@ -70,13 +72,23 @@ impl Simulation {
 }
 
 /// Refuses another code's conventions where they mean nothing: they are
-/// defined for the direct mapping with a lumped mass.
-pub(super) fn check_conventions(settings: &Settings) -> Result<()> {
+/// defined for the direct mapping with a lumped mass (natural knots for
+/// B-splines of degree 2 or 3), and the grid's knots must be the ones
+/// `--knots` names.
+pub(super) fn check_conventions(settings: &Settings, grid: &Grid) -> Result<()> {
     let plain = settings.force_mapping == Mapping::Direct
         && settings.velocity_mapping == Mapping::Direct
         && settings.mass == MassMatrix::Lumped
         && !settings.consistent_acceleration;
-    settings.conventions.check_1d(plain)
+    settings.conventions.check_1d(plain, grid.method())?;
+    if grid.knots() != settings.conventions.knots {
+        return Err(Error::InvalidArgument(format!(
+            "the grid has {} knots but the conventions name --knots {}",
+            grid.knots().name(),
+            settings.conventions.knots.name()
+        )));
+    }
+    Ok(())
 }
 
 /// Steps 5–6 of another code: u_p, x_p grow by Δt Σ_i φ_i v_i with v the

@@ -60,6 +60,8 @@ fn two_particles_on(
         mass: MassMatrix::Lumped,
         constitutive,
         young: 10.0,
+        poisson: 0.0,
+        body_force: None,
         gravity: -1.0,
         gravity_ramp: None,
         dirichlet: vec![],
@@ -282,6 +284,8 @@ fn the_step_advances_time_and_counts_one_grid_crossing() {
     let p = Particles::new(vec![0.9], vec![0.2], vec![1.0], vec![3.0], vec![0.0]).unwrap();
     let settings = Settings {
         young: 1.0,
+        poisson: 0.0,
+        body_force: None,
         gravity: 0.0,
         ..sim.settings.clone()
     };

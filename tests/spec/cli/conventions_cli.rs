@@ -474,3 +474,60 @@ fn the_2d_default_is_the_mls_papers_step_and_names_nothing() {
     let out = hompm::cli::run(&args).unwrap().stdout;
     assert!(out.contains("(your u_x, bit for bit)"), "{out}");
 }
+
+#[test]
+fn natural_knots_run_name_themselves_and_are_refused_where_they_mean_nothing() {
+    for degree in ["2", "3"] {
+        let flags = [
+            "--method", "bsmpm", "--degree", degree, "--knots", "natural",
+        ];
+        let mut with_json = flags.to_vec();
+        with_json.push("--json");
+        let text = run(&with_json).unwrap().stdout;
+        let doc: Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(doc["conventions"]["knots"], "natural");
+        let file = scratch(&format!("natural-{degree}.json"));
+        std::fs::write(&file, &text).unwrap();
+        let out = check(&file, &flags).unwrap();
+        assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
+        assert!(out.stdout.contains("--knots natural"), "{}", out.stdout);
+        // The same file against open knots is refused, never compared.
+        assert!(check(&file, &flags[..4]).is_err());
+    }
+    for flags in [
+        &["vibrating-bar", "--knots", "natural"][..],
+        &["vibrating-bar", "--method", "mpm-p2", "--knots", "natural"],
+        &[
+            "vibrating-bar",
+            "--method",
+            "bsmpm",
+            "--degree",
+            "4",
+            "--knots",
+            "natural",
+        ],
+        &[
+            "vibrating-bar",
+            "--method",
+            "bsmpm",
+            "--knots",
+            "natural",
+            "--mass",
+            "consistent",
+        ],
+        &[
+            "aligned-vibration",
+            "--method",
+            "bsmpm",
+            "--knots",
+            "natural",
+        ],
+    ] {
+        let mut args = vec!["check"];
+        args.extend_from_slice(flags);
+        args.extend_from_slice(&["--input", "/nonexistent"]);
+        let e = hompm::cli::run(&args).unwrap_err();
+        assert_eq!(hompm::cli::exit_code(&e), 2, "{flags:?}: {e}");
+        assert!(e.to_string().contains("natural"), "{flags:?}: {e}");
+    }
+}

@@ -107,6 +107,8 @@ pub fn free_settings(
         mass,
         constitutive: hompm::mpm::musl::Constitutive::SmallStrain,
         young,
+        poisson: 0.0,
+        body_force: None,
         gravity: 0.0,
         gravity_ramp: None,
         dirichlet: vec![],

@@ -1,3 +1,4 @@
 //! Tests of one part of the specification; see tests/spec/main.rs.
 
 mod spec_mpm2d;
+mod spec_strip;

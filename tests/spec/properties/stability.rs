@@ -126,6 +126,8 @@ fn direct_lumped_settings(young: f64, dirichlet: Vec<usize>) -> hompm::mpm::musl
         mass: MassMatrix::Lumped,
         constitutive: hompm::mpm::musl::Constitutive::SmallStrain,
         young,
+        poisson: 0.0,
+        body_force: None,
         gravity: 0.0,
         gravity_ramp: None,
         dirichlet,

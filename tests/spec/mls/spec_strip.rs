@@ -1,0 +1,138 @@
+//! The manufactured strip, the 1D vibration the MLS paper's own code runs
+//! for its figures (issue #40; `scenes::manufactured_strip`): the 1D
+//! neo-Hookean law, the body force that makes the displacement exact, the
+//! code's time loop and particle layout, and the code's own output files
+//! (tests/fixtures/tran, written by `scripts/tran_code_check.sh` from
+//! `Vibration('MPM', 8)` and `Vibration('BSMPM', 8)` of commit f30bc24
+//! under GNU Octave 7.3) checked with one `hompm check` line each.
+
+use approx::assert_relative_eq;
+use hompm::mpm::musl::neo_hookean_1d;
+use hompm::scenes::manufactured_strip::{parameters, StripParameters};
+use std::path::PathBuf;
+
+fn strip(cells: usize) -> StripParameters {
+    parameters("mls-paper-code").unwrap().placed(cells)
+}
+
+#[test]
+fn the_1d_neo_hookean_stress_is_eq_37_with_unit_transverse_stretches() {
+    // λ = 2, μ = 3, F = 1.1: (2 ln 1.1 + 3·0.21)/1.1, worked by hand.
+    let by_hand = (2.0 * 0.095_310_179_804_324_87 + 0.63) / 1.1;
+    assert_relative_eq!(neo_hookean_1d(2.0, 3.0, 1.1), by_hand, max_relative = 1e-15);
+    assert_eq!(neo_hookean_1d(2.0, 3.0, 1.0), 0.0);
+}
+
+#[test]
+fn the_strip_s_body_force_makes_its_displacement_exact() {
+    // b = ü − (1/ρ₀) ∂P/∂X, P = λ ln F/F + μ(F − 1/F), by central
+    // differences of the exact u, at ν = 0.3 so that every term counts.
+    let mut p = strip(8);
+    p.poisson = 0.3;
+    p.amplitude = 0.05;
+    let (lambda, mu) = p.lame();
+    let piola = |x: f64, t: f64| {
+        let f = p.deformation(x, t);
+        lambda * f.ln() / f + mu * (f - 1.0 / f)
+    };
+    let (x, t, h, k) = (p.left_end + 0.37, 0.0031, 1e-4, 1e-7);
+    let acceleration = (p.displacement(x, t + k) - 2.0 * p.displacement(x, t)
+        + p.displacement(x, t - k))
+        / (k * k);
+    let divergence = (piola(x + h, t) - piola(x - h, t)) / (2.0 * h);
+    let b = acceleration - divergence / p.density;
+    assert_relative_eq!(p.body_force(x, t), b, max_relative = 1e-5);
+}
+
+#[test]
+fn the_code_s_time_loop_ends_just_past_0_02_s() {
+    // `while t < 0.02 + 1e-7`: 41 steps to 0.0205 s on 8 cells, 321 to
+    // 0.0200625 s on 64 (docs/reproduction-notes.md).
+    let (dt, steps) = strip(8).code_time_steps(8);
+    assert_eq!((dt, steps), (5e-4, 41));
+    let (dt, steps) = strip(64).code_time_steps(64);
+    assert_eq!(steps, 321);
+    assert_relative_eq!(steps as f64 * dt, 0.0200625, max_relative = 1e-12);
+}
+
+fn fixture(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/tran")
+        .join(name)
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn the_strip_s_particles_sit_where_the_code_puts_them_two_ghost_cells_right() {
+    let text = std::fs::read_to_string(fixture("strip-MPM-8.csv")).unwrap();
+    let theirs: Vec<f64> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("id"))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    let ours = strip(8).initial_positions(8, 5);
+    assert_eq!(ours, theirs);
+    assert_eq!(ours[0], 0.25 + 0.0125);
+}
+
+fn check(file: &str, method: &[&str]) -> hompm::cli::Output {
+    let input = fixture(file);
+    let mut args = vec!["check", "manufactured-strip"];
+    args.extend_from_slice(method);
+    args.extend_from_slice(&[
+        "--cells", "8", "--ppc", "5", "--dt", "5e-4", "--steps", "41", "--input", &input,
+    ]);
+    hompm::cli::run(&args).unwrap()
+}
+
+#[test]
+fn the_mls_paper_code_s_strip_files_agree_under_its_conventions_and_only_under_them() {
+    // MPM: MUSL with particles moved by the updated grid momentum
+    // (Update_Particle_Position.m). BSMPM: USL (BSMPM_solvertest.m).
+    for (file, method, conventions) in [
+        ("strip-MPM-8.csv", &["--method", "mpm"][..], "--positions"),
+        (
+            "strip-BSMPM-8.csv",
+            &["--method", "bsmpm", "--degree", "2"][..],
+            "--scheme",
+        ),
+    ] {
+        let matched = if conventions == "--positions" {
+            vec!["--positions", "grid"]
+        } else {
+            vec!["--scheme", "usl"]
+        };
+        let flags: Vec<&str> = method.iter().copied().chain(matched).collect();
+        let out = check(file, &flags);
+        assert!(out.stdout.starts_with("agrees"), "{file}: {}", out.stdout);
+        assert!(
+            out.stdout.contains("in u, v, stress, x0, x"),
+            "{}",
+            out.stdout
+        );
+        let out = check(file, method);
+        assert!(out.stdout.starts_with("differs"), "{file}: {}", out.stdout);
+    }
+}
+
+#[test]
+fn the_manufactured_body_force_is_refused_at_the_nodes() {
+    let e = hompm::cli::run([
+        "run",
+        "manufactured-strip",
+        "--method",
+        "mpm",
+        "--cells",
+        "4",
+        "--ppc",
+        "5",
+        "--steps",
+        "2",
+        "--body-force",
+        "nodes",
+    ])
+    .unwrap_err();
+    assert!(e.to_string().contains("mapped from the particles"), "{e}");
+}
