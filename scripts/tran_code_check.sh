@@ -188,4 +188,17 @@ for method in $methods_1d; do
     echo "== check strip-$method-$cells ($flags): ${verdict:-error}"
   done
 done
+for cells in $cells_2d; do
+  f=$out/square-MPM-$cells.csv
+  [ -f "$f" ] || continue
+  h=$(awk "BEGIN { printf \"%.17g\", 2 / $cells }")
+  steps=$(sed -n 's/^# steps: //p' "$f")
+  verdict=$("$hompm" check aligned-vibration --method mpm --cells "$cells" --ppc 9 --steps "$steps" \
+    --solution axis-aligned --amplitude 0.1 --poisson 0.3 --origin "$h,$h" \
+    --columns x0_x=x0,x0_y=y0,x_x=x,x_y=y,v_x=vx,v_y=vy,stress_xx=sxx,stress_yy=syy,stress_xy=sxy,F_xx=Fxx,F_xy=Fxy,F_yx=Fyx,F_yy=Fyy \
+    --input "$f" 2> /dev/null | head -n 1) || true
+  checked=$((checked + 1))
+  case $verdict in agrees*) agreed=$((agreed + 1)) ;; esac
+  echo "== check square-MPM-$cells (--origin $h,$h): ${verdict:-error}"
+done
 echo "checks: $agreed of $checked agree"

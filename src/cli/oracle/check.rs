@@ -23,14 +23,49 @@ use crate::oracle::visibility::time_resolution;
 /// Reads and parses one input file.
 fn read(path: &std::path::Path, a: &CheckArgs, limits: &Limits) -> Result<(Input, Vec<String>)> {
     let bytes = read_input(path, limits.max_memory)?;
-    parse_input_as(
+    let (input, ignored) = parse_input_as(
         &bytes,
         a.format,
         a.dump_step,
         &ColumnMap::parse(&a.columns)?,
         a.setup.two_d(),
         limits.max_memory / crate::oracle::INPUT_MEMORY_FACTOR,
-    )
+    )?;
+    Ok((translated(input, &a.origin, a.setup.two_d())?, ignored))
+}
+
+/// `--origin`: the file's positions moved so that its body starts where
+/// hompm's does (0, or the strip's 2h). The displacement, already derived
+/// from the file's own coordinates, is unchanged.
+fn translated(input: Input, origin: &[f64], two_d: bool) -> Result<Input> {
+    if origin.is_empty() {
+        return Ok(input);
+    }
+    let axes: &[(&[&str], usize)] = if two_d {
+        &[(&["x0_x", "x_x"], 0), (&["x0_y", "x_y"], 1)]
+    } else {
+        &[(&["x0", "x"], 0)]
+    };
+    if origin.len() != axes.len() || origin.iter().any(|v| !v.is_finite()) {
+        return Err(Error::Usage(format!(
+            "--origin takes {} finite number{} in this dimension, got {origin:?}",
+            axes.len(),
+            if axes.len() == 1 { "" } else { "s" }
+        )));
+    }
+    let Input::Particles(mut table) = input else {
+        return Err(Error::Usage(
+            "--origin applies to a file of particles, not to a trace".into(),
+        ));
+    };
+    for (columns, axis) in axes {
+        for (name, values) in table.columns.iter_mut() {
+            if columns.contains(&name.as_str()) {
+                values.iter_mut().for_each(|v| *v -= origin[*axis]);
+            }
+        }
+    }
+    Ok(Input::Particles(table))
 }
 
 /// `hompm check`.

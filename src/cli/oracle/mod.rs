@@ -96,10 +96,16 @@ pub struct CheckArgs {
     /// (cells from each file's `# cells:` line or JSON `cells`, or --cells).
     #[arg(long, num_args = 1.., conflicts_with = "input")]
     convergence: Vec<PathBuf>,
-    /// How --input is read: auto (by its first text: JSON, a LAMMPS dump
-    /// or CSV), csv, json or lammps-dump.
+    /// How --input is read: auto (binary formats by their first bytes,
+    /// text ones by their first text), csv, json, lammps-dump, vtk,
+    /// vtk-xml, npy or npz.
     #[arg(long, value_enum, default_value_t = Format::Auto)]
     format: Format,
+    /// Where the other code's body starts: A (1D) or A,B (2D), subtracted
+    /// from the file's x0 and x before matching (the MLS paper's code puts
+    /// its body at 2h: --origin 0.25 on 8 cells).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    origin: Vec<f64>,
     /// The timestep block of a LAMMPS dump file to read (default: the last).
     #[arg(long = "dump-step", value_parser = clap::value_parser!(u64))]
     dump_step: Option<u64>,

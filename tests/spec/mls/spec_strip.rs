@@ -136,3 +136,51 @@ fn the_manufactured_body_force_is_refused_at_the_nodes() {
     .unwrap_err();
     assert!(e.to_string().contains("mapped from the particles"), "{e}");
 }
+
+#[test]
+fn origin_moves_a_file_whose_body_starts_elsewhere_onto_hompm_s() {
+    // The MLS paper's Vibration2D.m puts its square at [2h, 1 + 2h]²; its
+    // files check with --origin 2h,2h. Here: hompm's own 2D run, moved by
+    // (0.25, 0.25) in x0 and x.
+    let setup = [
+        "aligned-vibration",
+        "--cells",
+        "4",
+        "--ppc",
+        "4",
+        "--steps",
+        "3",
+    ];
+    let mut args = vec!["run"];
+    args.extend_from_slice(&setup);
+    args.push("--json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&hompm::cli::run(&args).unwrap().stdout).unwrap();
+    for column in ["x0", "x"] {
+        for pair in doc["particles"][column].as_array_mut().unwrap() {
+            for v in pair.as_array_mut().unwrap() {
+                *v = serde_json::json!(v.as_f64().unwrap() + 0.25);
+            }
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("origin");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("moved.json");
+    std::fs::write(&path, doc.to_string()).unwrap();
+    let input = path.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["check"];
+        args.extend_from_slice(&setup);
+        args.extend_from_slice(&["--input", input]);
+        args.extend_from_slice(extra);
+        hompm::cli::run(&args)
+    };
+    let out = run(&["--origin", "0.25,0.25"]).unwrap();
+    assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
+    assert!(run(&[]).is_err_and(|e| e
+        .to_string()
+        .contains("no particle of the setup starts within")));
+    let e = run(&["--origin", "0.25"]).unwrap_err();
+    assert_eq!(hompm::cli::exit_code(&e), 2, "{e}");
+    assert!(e.to_string().contains("--origin takes 2"), "{e}");
+}
