@@ -24,12 +24,13 @@
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`Study`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
 //! [`effective_tolerance`], [`significant_digits`], [`equal_to_digits`],
-//! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`thesis`],
+//! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`mls_code`], [`thesis`],
 //! [`tls`].
 
 pub mod book;
 pub mod facts;
 pub mod mls;
+pub mod mls_code;
 pub mod thesis;
 pub mod tls;
 
@@ -359,6 +360,7 @@ pub fn registry() -> Vec<TableSpec> {
     all.push(thesis::appendix_a1());
     all.push(facts::table());
     all.push(mls::aligned());
+    all.push(mls_code::table());
     all
 }
 
