@@ -22,7 +22,7 @@ use hompm::Error;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
-use super::check_strict::SETUP_1D;
+use super::check_strict::{SETUP_1D, SETUP_2D};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("check-claims");
@@ -789,15 +789,7 @@ fn an_agreeing_verdict_says_what_share_of_the_tolerance_its_largest_difference_u
     // tolerance (issue #36: Karamelo's 4096-cell u, 6.0e-7 relative): it
     // names the share, 0.5, and says the relative figure is at values the
     // absolute tolerance covers.
-    let setup: &[&str] = &[
-        "aligned-vibration",
-        "--cells",
-        "4",
-        "--ppc",
-        "4",
-        "--steps",
-        "3",
-    ];
+    let setup = SETUP_2D;
     let base = doc("run", setup);
     let own = agrees(check(setup, "own-share.json", &base, &["--json"]));
     let own = json_of(&own);

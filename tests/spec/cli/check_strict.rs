@@ -22,18 +22,8 @@ pub(super) const SETUP_1D: &[&str] = &[
     "--steps",
     "5",
 ];
-/// The 2D setup: the aligned vibration on 4 × 4 cells × 4 PPC, 3 steps
-/// (on 2 × 2 cells the one free node stands still, and so does every
-/// particle).
-const SETUP_2D: &[&str] = &[
-    "aligned-vibration",
-    "--cells",
-    "4",
-    "--ppc",
-    "4",
-    "--steps",
-    "3",
-];
+/// The 2D setup ([`crate::common::SETUP_2D`]).
+pub(super) const SETUP_2D: &[&str] = crate::common::SETUP_2D;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("check-strict");

@@ -168,3 +168,16 @@ pub fn assert_refuses_bad_time_steps(mut step: impl FnMut(f64) -> hompm::Result<
         }
     }
 }
+
+/// The 2D setup of the oracle's tests: the aligned vibration on 4 × 4
+/// cells × 4 PPC, 3 steps (on 2 × 2 cells the one free node stands still,
+/// and so does every particle).
+pub const SETUP_2D: &[&str] = &[
+    "aligned-vibration",
+    "--cells",
+    "4",
+    "--ppc",
+    "4",
+    "--steps",
+    "3",
+];

@@ -142,17 +142,9 @@ fn origin_moves_a_file_whose_body_starts_elsewhere_onto_hompm_s() {
     // The MLS paper's Vibration2D.m puts its square at [2h, 1 + 2h]²; its
     // files check with --origin 2h,2h. Here: hompm's own 2D run, moved by
     // (0.25, 0.25) in x0 and x.
-    let setup = [
-        "aligned-vibration",
-        "--cells",
-        "4",
-        "--ppc",
-        "4",
-        "--steps",
-        "3",
-    ];
+    let setup = crate::common::SETUP_2D;
     let mut args = vec!["run"];
-    args.extend_from_slice(&setup);
+    args.extend_from_slice(setup);
     args.push("--json");
     let mut doc: serde_json::Value =
         serde_json::from_str(&hompm::cli::run(&args).unwrap().stdout).unwrap();
@@ -170,7 +162,7 @@ fn origin_moves_a_file_whose_body_starts_elsewhere_onto_hompm_s() {
     let input = path.to_str().unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["check"];
-        args.extend_from_slice(&setup);
+        args.extend_from_slice(setup);
         args.extend_from_slice(&["--input", input]);
         args.extend_from_slice(extra);
         hompm::cli::run(&args)
