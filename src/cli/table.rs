@@ -18,6 +18,10 @@ pub struct TableArgs {
     /// Print JSON.
     #[arg(long)]
     json: bool,
+    /// The largest sizes, as `hompm reproduce --full` runs them (the tables
+    /// whose setup it changes: mls-aligned, mls-convergence-study).
+    #[arg(long)]
+    full: bool,
 }
 
 #[derive(Serialize)]
@@ -26,7 +30,7 @@ struct Listed {
     title: String,
 }
 
-/// `hompm table [ID] [--list] [--json]`: without an id, or with --list, the
+/// `hompm table [ID] [--list] [--json] [--full]`: without an id, or with --list, the
 /// registered ids and titles. In table JSON, `null` means "not published"
 /// or "not computed" (DESIGN.md); a computed number that is not finite is
 /// an error, never a `null`.
@@ -36,7 +40,11 @@ pub fn table(a: TableArgs) -> Result<Output> {
         _ => return list(a.json),
     };
     let spec = tables::find(id)?;
-    let report = tables::run(&spec, &RunOptions::default())?;
+    let options = RunOptions {
+        quick: false,
+        full: a.full,
+    };
+    let report = tables::run(&spec, &options)?;
     for (r, row) in report.computed.iter().enumerate() {
         for (c, v) in row.iter().enumerate() {
             if let Some(v) = v {

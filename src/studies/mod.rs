@@ -12,11 +12,12 @@
 //! [`work_precision_variants`], [`WorkPoint`], [`work_precision`],
 //! [`speed_variants`], [`SpeedPoint`], [`speed`], [`SolverPoint`],
 //! [`solver_study`], [`StabilityPoint`], [`stability_map`], [`tls_example`],
-//! [`tls_paper`], [`mls_paper`], [`mls_code`], [`failures`], [`report`], [`thesis`], [`book`].
+//! [`tls_paper`], [`mls_paper`], [`mls_code`], [`mls_convergence`], [`failures`], [`report`], [`thesis`], [`book`].
 
 pub mod book;
 pub mod failures;
 pub mod mls_code;
+pub mod mls_convergence;
 pub mod mls_paper;
 pub mod report;
 pub mod thesis;

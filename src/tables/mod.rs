@@ -24,13 +24,14 @@
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`Study`], [`TableSpec`], [`TableReport`],
 //! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
 //! [`effective_tolerance`], [`significant_digits`], [`equal_to_digits`],
-//! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`mls_code`], [`thesis`],
+//! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`mls_code`], [`mls_convergence`], [`thesis`],
 //! [`tls`].
 
 pub mod book;
 pub mod facts;
 pub mod mls;
 pub mod mls_code;
+pub mod mls_convergence;
 pub mod thesis;
 pub mod tls;
 
@@ -361,6 +362,7 @@ pub fn registry() -> Vec<TableSpec> {
     all.push(facts::table());
     all.push(mls::aligned());
     all.push(mls_code::table());
+    all.push(mls_convergence::table());
     all
 }
 
@@ -411,8 +413,9 @@ pub fn run_many(
 }
 
 /// Tables that take most of `hompm reproduce` (mls-aligned: about two
-/// minutes of its one longest run), started before the others.
-pub const LONGEST_TABLES: [&str; 1] = ["mls-aligned"];
+/// minutes of its one longest run; mls-convergence-study with `--full`),
+/// started before the others.
+pub const LONGEST_TABLES: [&str; 2] = ["mls-aligned", "mls-convergence-study"];
 
 /// Places computed rows by their labels: an unknown or repeated label, or
 /// a row of the wrong length, is an error; a row not returned stays `None`.

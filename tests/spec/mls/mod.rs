@@ -1,4 +1,5 @@
 //! Tests of one part of the specification; see tests/spec/main.rs.
 
+mod spec_mls_convergence;
 mod spec_mpm2d;
 mod spec_strip;

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""CPU nanoseconds per particle-step of the aligned vibration's step under
+each combination of mls-convergence-study (issue #38).
+
+The table's own wall times are taken while its runs share two cores (and
+whatever else the machine runs); this measures the processor time (user +
+sys, from os.wait4) of `hompm run aligned-vibration --cells C --ppc 9`
+with 550 steps minus the same with 50 (which removes the setup), best of
+three, divided by 500 steps x the particles. Run by hand:
+  python3 scripts/aligned_step_cost.py [path/to/hompm] [cells]
+Only the standard library."""
+import os, subprocess, sys
+
+HOMPM = sys.argv[1] if len(sys.argv) > 1 else "target/release/hompm"
+CELLS = int(sys.argv[2]) if len(sys.argv) > 2 else 32
+
+# The flags of src/studies/mls_convergence.rs, `combinations()`.
+FLAGS = {
+    "BSMPM": "--method bsmpm --degree 2",
+    "BSMPM + usl": "--method bsmpm --degree 2 --scheme usl",
+    "BSMPM + pic": "--method bsmpm --degree 2 --transfer pic",
+    "BSMPM + flip:0.99": "--method bsmpm --degree 2 --transfer flip:0.99",
+    "BSMPM + apic (usl)": "--method bsmpm --degree 2 --transfer apic",
+    "BSMPM + padded knots": "--method bsmpm --degree 2 --knots padded",
+    "BSMPM + projected positions": "--method bsmpm --degree 2 --positions projected",
+    "BSMPM + body force at nodes": "--method bsmpm --degree 2 --body-force nodes",
+    "BSMPM + axis-aligned solution": "--method bsmpm --degree 2 --solution axis-aligned",
+    "Taichi-style (apic, affine, padded)":
+        "--method bsmpm --degree 2 --transfer apic --gradient affine --knots padded",
+    "Taichi-style - affine": "--method bsmpm --degree 2 --transfer apic --knots padded",
+    "Taichi-style - padded knots": "--method bsmpm --degree 2 --transfer apic --gradient affine",
+    "Taichi-style, pic for apic":
+        "--method bsmpm --degree 2 --transfer pic --scheme usl --knots padded",
+    "Taichi-style, flip for apic": "--method bsmpm --degree 2 --scheme usl --knots padded",
+    "TL-FE reference (no grid crossing)": "--method tl-fe --degree 2",
+}
+
+
+def cpu_seconds(flags, steps):
+    best = float("inf")
+    for _ in range(3):
+        args = [HOMPM, "run", "aligned-vibration", "--cells", str(CELLS), "--ppc", "9",
+                "--steps", str(steps)] + flags.split()
+        p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        _, status, usage = os.wait4(p.pid, 0)
+        if status != 0:
+            sys.exit(f"{' '.join(args)} failed")
+        best = min(best, usage.ru_utime + usage.ru_stime)
+    return best
+
+
+if __name__ == "__main__":
+    particles = CELLS * CELLS * 9
+    for label, flags in FLAGS.items():
+        ns = 1e9 * (cpu_seconds(flags, 550) - cpu_seconds(flags, 50)) / (500 * particles)
+        print(f"{label}: {ns:.0f} ns per particle-step ({CELLS} cells, {particles} particles)",
+              flush=True)
