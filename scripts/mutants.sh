@@ -20,7 +20,7 @@ declare -A FILES=(
   [mass]="src/mass.rs"
   [solve]="src/solve/*.rs"
   [reconstruct]="src/reconstruct/*.rs"
-  [mpm]="src/mpm/*.rs"
+  [mpm]="src/mpm/*.rs src/mpm/mapping/*.rs"
   [mpm2d]="src/mpm2d/*.rs"
   [oracle]="src/oracle/*.rs"
 )

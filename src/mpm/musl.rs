@@ -286,8 +286,8 @@ impl Simulation {
             }
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
-        ws.mapping.tls_density_average = self.settings.tls_density_average;
-        ws.mapping.begin_step(grid, p, &mappings)
+        ws.mapping
+            .begin_step_with(grid, p, &mappings, self.settings.tls_density_average)
     }
 
     /// Step 1, book Eq. (4.5) and thesis §3.2: the lumped mass

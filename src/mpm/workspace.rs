@@ -18,7 +18,7 @@ use crate::spline::bspline::SpanScratch;
 /// The buffers of one step, allocated when the simulation starts: the basis
 /// at the particles (flat stencils), the nodal vectors, and the per-particle
 /// increments of steps 5–8.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct StepWorkspace {
     /// φ_i(x_p) and (modified) ∇φ_i(x_p) at the start of the step.
     pub stencils: Stencils,

@@ -30,7 +30,7 @@
 
 use super::particles::Particles2d;
 pub use super::reconstruction::GaussGrid;
-use super::reconstruction::{GaussReconstruction, ShapeLists};
+use super::reconstruction::{GaussReconstruction, Reconstruction, ShapeLists};
 use crate::error::{Error, Result};
 use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
 use nalgebra::Matrix3;
@@ -248,11 +248,17 @@ impl MlsShapes {
     }
 }
 
-impl GaussReconstruction for MlsShapes {
+impl Reconstruction for MlsShapes {
     fn name(&self) -> &'static str {
         "MLS"
     }
 
+    fn largest_condition(&self) -> f64 {
+        self.largest_condition
+    }
+}
+
+impl GaussReconstruction for MlsShapes {
     fn evaluate(
         &mut self,
         gauss: &GaussGrid,
@@ -270,10 +276,6 @@ impl GaussReconstruction for MlsShapes {
             particle: &self.particle,
             phi: &self.phi,
         }
-    }
-
-    fn largest_condition(&self) -> f64 {
-        self.largest_condition
     }
 }
 

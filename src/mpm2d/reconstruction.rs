@@ -14,10 +14,19 @@
 //! interface, and Eqs. (22)–(25) then integrate the Gauss-point values with
 //! the grid's basis.
 //!
+//! What a reconstruction reports of its last evaluation, its name, the
+//! largest condition number of its small systems and the cells it
+//! repaired, is [`Reconstruction`], the trait that the 1D reconstructions
+//! (`mpm::mapping::reconstruction`) share; the 2D step records the two
+//! numbers. The rest is 2D's own: the 1D reconstructions fit each field on
+//! its own at quadrature points that move with the particles, and
+//! integrate their own fits, where a 2D reconstruction is its φ_gp at the
+//! grid's fixed Gauss points (`mpm::mapping::reconstruction` says why).
+//!
 //! ## How to add a reconstruction
-//! 1. Implement [`GaussReconstruction`] in a new module of `mpm2d` (fill
-//!    φ_gp in the order of [`storage_order`]) and declare it in
-//!    `mpm2d/mod.rs`.
+//! 1. Implement [`Reconstruction`] and [`GaussReconstruction`] in a new
+//!    module of `mpm2d` (fill φ_gp in the order of [`storage_order`]) and
+//!    declare it in `mpm2d/mod.rs`.
 //! 2. Register it in src/mpm2d/step.rs: one variant of
 //!    [`super::step::Mapping2d`] (and in [`super::step::Mapping2d::ALL`]),
 //!    its arm in [`super::step::Mapping2d::reconstruction`] and its names
@@ -32,10 +41,12 @@
 //! (tests/spec/meta/extensions.rs walks it).
 //!
 //! Items: [`GaussGrid`], [`ShapeLists`], [`ShapeBuffers`], [`GaussReconstruction`],
-//! [`storage_order`].
+//! [`storage_order`] (and [`Reconstruction`], re-exported from
+//! `mpm::mapping`).
 
 use super::particles::Particles2d;
 use crate::error::Result;
+pub use crate::mpm::mapping::Reconstruction;
 
 /// The Gauss points of the grid: 2·cells abscissae per axis, g = gx + n·gy.
 pub struct GaussGrid<'a> {
@@ -88,11 +99,10 @@ impl ShapeBuffers {
 
 /// A reconstruction from the particles to the Gauss points that is linear
 /// in the data, known by its shape functions φ_gp (MLS paper Eqs. 14,
-/// 18–21 and 31–33; TLS paper Eq. 13 with its constraint, Eq. 14).
-pub trait GaussReconstruction: std::fmt::Debug + Send + Sync {
-    /// Its name in labels and messages ("MLS", "TLS").
-    fn name(&self) -> &'static str;
-
+/// 18–21 and 31–33; TLS paper Eq. 13 with its constraint, Eq. 14). What it
+/// reports of its last evaluation (name, largest condition number,
+/// repaired cells) is the [`Reconstruction`] that 1D reconstructions share.
+pub trait GaussReconstruction: Reconstruction {
     /// φ_gp for every Gauss point from the particles at the start of a
     /// step; `cell_x[p]`, `cell_y[p]` are the cells of particle p. Errors
     /// when a point or cell cannot be reconstructed under the
@@ -108,17 +118,6 @@ pub trait GaussReconstruction: std::fmt::Debug + Send + Sync {
     /// The lists of the last evaluation, stored cell by cell in
     /// [`storage_order`].
     fn lists(&self) -> ShapeLists<'_>;
-
-    /// The largest condition number of the last evaluation's small systems
-    /// (MLS: κ₁ of the moment matrix A; TLS: κ₁ of the cells' normal
-    /// matrices).
-    fn largest_condition(&self) -> f64;
-
-    /// How many cells (TLS) or points the last evaluation repaired; 0 for a
-    /// reconstruction without a repair.
-    fn repaired(&self) -> usize {
-        0
-    }
 }
 
 /// The Gauss points (gx, gy) in the order the lists are stored: cell by

@@ -52,7 +52,9 @@
 //! [`TaylorBasis2d`], [`TlsShapes`].
 
 use super::particles::Particles2d;
-use super::reconstruction::{GaussGrid, GaussReconstruction, ShapeBuffers, ShapeLists};
+use super::reconstruction::{
+    GaussGrid, GaussReconstruction, Reconstruction, ShapeBuffers, ShapeLists,
+};
 use crate::error::{Error, Result};
 use crate::reconstruct::taylor::{CellBins, DegenerateCells};
 use nalgebra::SMatrix;
@@ -344,11 +346,21 @@ fn normal_solve<const M: usize>(
     Some((z, kappa))
 }
 
-impl GaussReconstruction for TlsShapes {
+impl Reconstruction for TlsShapes {
     fn name(&self) -> &'static str {
         "TLS"
     }
 
+    fn largest_condition(&self) -> f64 {
+        self.largest_condition
+    }
+
+    fn repaired(&self) -> usize {
+        self.repaired
+    }
+}
+
+impl GaussReconstruction for TlsShapes {
     /// TLS paper Eqs. (13)–(14) on every cell, then φ_gp at its four Gauss
     /// points (module doc).
     fn evaluate(
@@ -422,13 +434,5 @@ impl GaussReconstruction for TlsShapes {
 
     fn lists(&self) -> ShapeLists<'_> {
         self.shapes.lists()
-    }
-
-    fn largest_condition(&self) -> f64 {
-        self.largest_condition
-    }
-
-    fn repaired(&self) -> usize {
-        self.repaired
     }
 }

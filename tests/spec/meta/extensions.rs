@@ -148,8 +148,18 @@ fn every_registered_1d_mapping_keeps_its_name_json_and_help_through_the_registra
     use hompm::mpm::mapping::Mapping;
     let words = |t: &str| t.split_whitespace().collect::<Vec<_>>().join(" ");
     let help = words(&hompm::cli::run(["run", "--help"]).unwrap().stdout);
+    let grid = Grid::new(Method::Mpm, 0.0, 1.0, 4).unwrap();
+    let ws = hompm::mpm::mapping::MappingWorkspace::new(&grid, 8).unwrap();
     for m in Mapping::ALL {
         let info = m.info();
+        // Every mapping but the direct one has its reconstruction, named by
+        // its legend.
+        assert_eq!(
+            ws.reconstruction(m).map(|r| r.name()),
+            (m != Mapping::Direct).then_some(info.legend),
+            "{}",
+            info.name
+        );
         assert_eq!(
             serde_json::to_value(m).unwrap(),
             serde_json::json!(info.name)

@@ -1153,7 +1153,7 @@ fn particle_sums_and_refusals_on_a_hand_built_set() {
 // ---------------------------------------------------------------------------
 // Taylor least squares in 2D (TLS paper §5.2–5.5 on a rectangular cell).
 
-use hompm::mpm2d::reconstruction::GaussReconstruction;
+use hompm::mpm2d::reconstruction::{GaussReconstruction, Reconstruction};
 use hompm::mpm2d::step::StepObserver2d;
 use hompm::mpm2d::tls::{TaylorBasis2d, TaylorOrder2d, TlsShapes, TlsVariant};
 use hompm::reconstruct::taylor::DegenerateCells;

@@ -377,3 +377,97 @@ fn uniform_particles_sit_at_the_centres_of_equal_sub_intervals() {
     assert_eq!((p.len(), p.is_empty(), p.total_mass()), (4, false, 4.0));
     assert!(Particles::uniform(1.0, 3.0, 0, 2.0).is_err());
 }
+
+/// What a 1D reconstruction reports of its last step, the `Reconstruction`
+/// trait that 1D shares with 2D (book Eqs. 4.26–4.29, TLS paper §5.3): TLS
+/// reports the largest κ of its cells' fits and the cells that took virtual
+/// points, from zero again at every step; a cubic spline solves no small
+/// system; the direct mapping has no reconstruction.
+#[test]
+fn a_1d_reconstruction_reports_the_condition_and_the_repairs_of_its_last_step() {
+    use hompm::mpm::mapping::internal_force;
+    use hompm::reconstruct::taylor::{reconstruct, Assignment, TlsOptions};
+    let grid = Grid::new(Method::Mpm, 0.0, 4.0, 4).unwrap();
+    // Three particles in each of cells 0–2 and one in cell 3: quadratic
+    // TLS needs three, so cell 3 takes virtual points from cell 2.
+    let x = vec![0.2, 0.5, 0.9, 1.1, 1.4, 1.8, 2.3, 2.5, 2.7, 3.5];
+    let n = x.len();
+    let stress: Vec<f64> = x.iter().map(|x| 1.0 + x * x).collect();
+    let p = Particles::new(
+        x.clone(),
+        vec![0.4; n],
+        vec![1.0; n],
+        vec![0.1; n],
+        stress.clone(),
+    )
+    .unwrap();
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    let mut ws = MappingWorkspace::new(&grid, n).unwrap();
+    assert!(ws.reconstruction(Mapping::Direct).is_none());
+    ws.begin_step(&grid, &p, &[Mapping::Tls]).unwrap();
+    let mut force = vec![0.0; grid.num_dofs()];
+    internal_force(&grid, &p, &stencils, Mapping::Tls, &mut ws, &mut force).unwrap();
+    let options = TlsOptions {
+        assignment: Assignment::HalfOpen,
+        ..TlsOptions::default()
+    };
+    let fit = reconstruct(&grid.cells(), &x, &stress, None, options).unwrap();
+    let kappa = fit.condition_numbers().into_iter().fold(0.0, f64::max);
+    let repaired = fit.cells.iter().flatten();
+    let repaired = repaired.filter(|c| c.virtual_points > 0).count();
+    assert_eq!(repaired, 1);
+    assert!(kappa > 1.0);
+    let tls = ws.reconstruction(Mapping::Tls).unwrap();
+    assert_eq!(
+        (tls.name(), tls.largest_condition(), tls.repaired()),
+        ("TLS", kappa, repaired)
+    );
+    // The projection's two fits add theirs; the next step starts from zero.
+    let lumped = MassMatrix::Lumped;
+    project_velocity(&grid, &p, &stencils, Mapping::Tls, lumped, &mut ws).unwrap();
+    let tls = ws.reconstruction(Mapping::Tls).unwrap();
+    assert!(tls.largest_condition() >= kappa && tls.repaired() == 1);
+    ws.begin_step(&grid, &p, &[Mapping::Tls]).unwrap();
+    let tls = ws.reconstruction(Mapping::Tls).unwrap();
+    assert_eq!((tls.largest_condition(), tls.repaired()), (0.0, 0));
+    for m in [Mapping::CubicSpline, Mapping::CubicSplineClipped] {
+        ws.begin_step(&grid, &p, &[m]).unwrap();
+        project_velocity(&grid, &p, &stencils, m, lumped, &mut ws).unwrap();
+        let spline = ws.reconstruction(m).unwrap();
+        assert_eq!(
+            (spline.name(), spline.largest_condition(), spline.repaired()),
+            (m.info().legend, 0.0, 0)
+        );
+    }
+}
+
+/// Each registered mapping keeps its own quadrature (thesis §7.2): the
+/// thesis' spline rule for the internal force and the clipped rule for
+/// the velocity in one step give what each gives alone.
+#[test]
+fn the_force_and_the_velocity_mapping_keep_their_own_quadratures() {
+    use hompm::mpm::mapping::internal_force;
+    let grid = Grid::new(Method::Bsmpm { degree: 2 }, 0.0, 1.0, 6).unwrap();
+    let mut p = particles(6, 3, &[0.1, 0.9, 0.4, 0.7, 0.2, 0.6, 0.5], &[0.3, 0.5, 0.2]);
+    p.stress = p.x.clone();
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    let (force_mapping, velocity_mapping) = (Mapping::CubicSpline, Mapping::CubicSplineClipped);
+    let mass = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    // The force, then the velocity, of a step that began with `mappings`.
+    let run = |mappings: &[Mapping], velocity: bool| {
+        let mut ws = MappingWorkspace::new(&grid, p.len()).unwrap();
+        ws.begin_step(&grid, &p, mappings).unwrap();
+        let mut force = vec![0.0; grid.num_dofs()];
+        internal_force(&grid, &p, &stencils, force_mapping, &mut ws, &mut force).unwrap();
+        if !velocity {
+            return force;
+        }
+        project_velocity(&grid, &p, &stencils, velocity_mapping, mass, &mut ws).unwrap();
+        ws.velocity
+    };
+    let both = [force_mapping, velocity_mapping];
+    let (force, velocity) = (run(&both, false), run(&both, true));
+    assert_eq!(force, run(&[force_mapping], false));
+    assert_eq!(velocity, run(&[velocity_mapping], true));
+    assert!(force.iter().any(|&f| f != 0.0) && velocity.iter().any(|&v| v != 0.0));
+}
