@@ -288,3 +288,27 @@ fn natural_knots_are_refused_where_they_mean_nothing() {
     assert!(Grid::natural(0.0, 1.0, 4, 2).unwrap().shape(1.01).is_err());
     assert!(Grid::natural(0.0, 1.0, 4, 3).unwrap().shape(-0.01).is_err());
 }
+
+#[test]
+fn natural_splines_of_degree_p_are_n_plus_1_functions_on_a_b_without_gradient_breaks() {
+    for p in [2, 3] {
+        let basis = NaturalSplines::new(1.0, 4.0, 6, p).unwrap();
+        assert_eq!(basis.degree(), p);
+        assert_eq!(basis.num_basis(), 7);
+        assert_eq!(basis.domain(), (1.0, 4.0));
+        // C^{p−1} with p ≥ 2: no gradient jumps anywhere, the walls
+        // included.
+        assert!(basis.gradient_breaks().is_empty(), "p {p}");
+        let grid = Grid::natural(1.0, 4.0, 6, p).unwrap();
+        assert_eq!(grid.degree(), p);
+        assert!(grid.gradient_breaks().is_empty(), "p {p}");
+    }
+    // So a particle that crosses the node x = 1 (from 0.95 at v = 1,
+    // stress-free, for Δt = 0.1) counts no grid crossing.
+    let grid = Grid::natural(0.0, 2.0, 2, 2).unwrap();
+    let p = Particles::new(vec![0.95], vec![1.0], vec![1.0], vec![1.0], vec![0.0]).unwrap();
+    let mut sim = Simulation::new(grid, p, settings(NATURAL, vec![])).unwrap();
+    sim.step(0.1).unwrap();
+    assert!(sim.particles.x[0] > 1.0, "{}", sim.particles.x[0]);
+    assert_eq!(sim.diagnostics.grid_crossings, 0);
+}

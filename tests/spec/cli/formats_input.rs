@@ -266,3 +266,112 @@ fn a_non_finite_value_in_a_vtk_ascii_array_names_its_row() {
     let path = scratch("nan.vtk", bad.as_bytes());
     one_line_exit_2(check_1d(&path, "x=Points:0"), "finite");
 }
+
+/// A legacy VTK fixture with one more point array, `tag`, of VTK type `ty`
+/// (one component), whose values are `data` (text in an ASCII file,
+/// big-endian bytes in a binary one), appended after its last array.
+fn with_tag(fixture_name: &str, fields: usize, ty: &str, data: &[u8], name: &str) -> String {
+    let mut bytes = std::fs::read(fixture(fixture_name)).unwrap();
+    let from = format!("FIELD FieldData {fields}");
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .unwrap();
+    let to = format!("FIELD FieldData {}", fields + 1);
+    bytes.splice(at..at + from.len(), to.bytes());
+    let points = if fixture_name.starts_with("bar") {
+        8
+    } else {
+        64
+    };
+    bytes.extend(format!("tag 1 {points} {ty}\n").bytes());
+    bytes.extend(data);
+    bytes.push(b'\n');
+    scratch(name, &bytes)
+}
+
+#[test]
+fn integers_as_text_are_read_exactly_over_their_type_s_whole_range_and_refused_beyond_it() {
+    // VTK's integer types hold −2^(b−1) … 2^(b−1) − 1 (signed) and
+    // 0 … 2^b − 1 (unsigned) for b = 8, 16, 32, 64 bits; a float64 holds
+    // every integer only up to 2^53 in magnitude. Each end is accepted
+    // (the tag column is then ignored and the file agrees), one past it
+    // refused in one line naming the type.
+    let cases: [(&str, &str, &[&str]); 8] = [
+        ("char", "signed 8-bit", &["-129", "128", "1.5"]),
+        ("unsigned_char", "unsigned 8-bit", &["-1", "256"]),
+        ("short", "signed 16-bit", &["-32769", "32768"]),
+        ("unsigned_short", "unsigned 16-bit", &["-1", "65536"]),
+        ("int", "signed 32-bit", &["-2147483649", "2147483648"]),
+        ("unsigned_int", "unsigned 32-bit", &["-1", "4294967296"]),
+        (
+            "long",
+            "signed 64-bit",
+            &["-9007199254740994", "9007199254740994"],
+        ),
+        (
+            "unsigned_long",
+            "unsigned 64-bit",
+            &["-1", "9007199254740994"],
+        ),
+    ];
+    let ends = |ty: &str| match ty {
+        "char" => ["-128", "127"],
+        "unsigned_char" => ["0", "255"],
+        "short" => ["-32768", "32767"],
+        "unsigned_short" => ["0", "65535"],
+        "int" => ["-2147483648", "2147483647"],
+        "unsigned_int" => ["0", "4294967295"],
+        "long" => ["-9007199254740992", "9007199254740992"],
+        _ => ["0", "9007199254740992"],
+    };
+    for (ty, named, beyond) in cases {
+        let [low, high] = ends(ty);
+        let text = format!("{low} {high} 0 1 2 3 4 5");
+        let path = with_tag(
+            "bar-legacy42-ascii.vtk",
+            4,
+            ty,
+            text.as_bytes(),
+            &format!("{ty}-ends.vtk"),
+        );
+        agrees(check_1d(&path, "x=Points:0"), "in u");
+        for (k, v) in beyond.iter().enumerate() {
+            let text = format!("0 1 2 3 4 5 6 {v}");
+            let path = with_tag(
+                "bar-legacy42-ascii.vtk",
+                4,
+                ty,
+                text.as_bytes(),
+                &format!("{ty}-beyond-{k}.vtk"),
+            );
+            one_line_exit_2(
+                check_1d(&path, "x=Points:0"),
+                &format!("{v} is not a whole number of a {named} integer"),
+            );
+        }
+    }
+}
+
+#[test]
+fn binary_unsigned_integers_are_read_up_to_2_to_the_53_and_refused_one_past_it() {
+    // A legacy binary file's unsigned_long array (big-endian bytes):
+    // 2^53 is exact in a float64 and read; 2^53 + 1 is not, and refused.
+    for (k, last, ok) in [(0, 1u64 << 53, true), (1, (1u64 << 53) + 1, false)] {
+        let mut data: Vec<u8> = (0..63u64).flat_map(|v| v.to_be_bytes()).collect();
+        data.extend(last.to_be_bytes());
+        let path = with_tag(
+            "av-legacy42-binary.vtk",
+            5,
+            "unsigned_long",
+            &data,
+            &format!("u64-{k}.vtk"),
+        );
+        let out = check_2d(&path, VTK_2D);
+        if ok {
+            agrees(out, "in u");
+        } else {
+            one_line_exit_2(out, "the integer 9007199254740993 is beyond 2^53");
+        }
+    }
+}

@@ -7,8 +7,11 @@
 //! under GNU Octave 7.3) checked with one `hompm check` line each.
 
 use approx::assert_relative_eq;
-use hompm::mpm::musl::neo_hookean_1d;
+use hompm::mpm::grid::{Grid, Method};
+use hompm::mpm::musl::{neo_hookean_1d, Constitutive, Simulation};
+use hompm::mpm::particles::Particles;
 use hompm::scenes::manufactured_strip::{parameters, StripParameters};
+use hompm::scenes::Discretisation;
 use std::path::PathBuf;
 
 fn strip(cells: usize) -> StripParameters {
@@ -212,4 +215,87 @@ fn under_its_code_s_setup_mpm_and_bsmpm_both_converge_at_order_two() {
         assert!((order - 2.0).abs() < 0.05, "{file}: order {order}");
     }
     assert!(study.bsmpm[3].displacement > 1.5 * study.mpm[3].displacement);
+}
+
+/// A one-particle run on two cells of [0, 1] with the given law, E and ν.
+fn one_particle(constitutive: Constitutive, young: f64, poisson: f64) -> hompm::Result<Simulation> {
+    let grid = Grid::new(Method::Mpm, 0.0, 1.0, 2).unwrap();
+    let p = Particles::new(vec![0.25], vec![0.5], vec![1.0], vec![0.0], vec![0.0]).unwrap();
+    let mut s =
+        Discretisation::direct(Method::Mpm, 2, 1).settings(constitutive, young, 0.0, None, vec![]);
+    s.poisson = poisson;
+    Simulation::new(grid, p, s)
+}
+
+#[test]
+fn a_run_refuses_a_young_s_modulus_that_is_not_positive() {
+    for young in [0.0, -1.0, f64::NAN] {
+        for law in [Constitutive::SmallStrain, Constitutive::NeoHookean] {
+            let e = one_particle(law, young, 0.0).err().unwrap().to_string();
+            assert!(
+                e.contains("Young's modulus must be positive"),
+                "{young}: {e}"
+            );
+        }
+    }
+    assert!(one_particle(Constitutive::SmallStrain, f64::MIN_POSITIVE, 0.0).is_ok());
+}
+
+#[test]
+fn the_neo_hookean_law_needs_poisson_s_ratio_strictly_between_minus_one_and_one_half() {
+    // λ = Eν/((1 + ν)(1 − 2ν)) and μ = E/(2(1 + ν)) are finite and μ > 0
+    // only for −1 < ν < 1/2: both ends are refused, points just inside
+    // accepted.
+    for nu in [-1.0, 0.5, -1.5, 0.7] {
+        let e = one_particle(Constitutive::NeoHookean, 1.0, nu)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("−1 < ν < 0.5"), "{nu}: {e}");
+    }
+    for nu in [-0.999, 0.0, 0.3, 0.499] {
+        assert!(
+            one_particle(Constitutive::NeoHookean, 1.0, nu).is_ok(),
+            "{nu}"
+        );
+    }
+    // The small-strain laws do not read ν: any value is accepted there.
+    for nu in [-1.0, 0.5, 0.7] {
+        assert!(
+            one_particle(Constitutive::SmallStrain, 1.0, nu).is_ok(),
+            "{nu}"
+        );
+    }
+}
+
+#[test]
+fn a_neo_hookean_step_updates_f_then_sigma_v_rho_and_the_strain_of_each_particle() {
+    // Steps 7 and 8 under the 1D neo-Hookean law, particle by particle and
+    // bit for bit: F ← (1 + Δε)F, σ = (λ ln F + μ(F² − 1))/F, V = V⁰F,
+    // ρ = m/V and ε ← ε + Δε, with Δε the step's strain increment. ν = 0.3
+    // so that λ counts.
+    let mut p = strip(8);
+    p.poisson = 0.3;
+    let (lambda, mu) = p.lame();
+    let mut sim = p
+        .simulation(&Discretisation::direct(Method::Mpm, 8, 5))
+        .unwrap();
+    let (dt, _) = p.code_time_steps(8);
+    for step in 1..=3 {
+        let before = sim.particles.clone();
+        sim.step(dt).unwrap();
+        let (q, de) = (&sim.particles, &sim.workspace().strain_increment);
+        assert!(de.iter().all(|&d| d != 0.0), "step {step}");
+        for (k, &de_k) in de.iter().enumerate().take(q.len()) {
+            let f = before.deformation[k] * (1.0 + de_k);
+            assert_eq!(q.deformation[k], f, "step {step}, particle {k}");
+            assert_eq!(q.stress[k], neo_hookean_1d(lambda, mu, f));
+            assert_eq!(q.volume[k], q.initial_volume[k] * f);
+            assert_eq!(q.density[k], q.mass[k] / q.volume[k]);
+            assert_eq!(q.strain[k], before.strain[k] + de_k);
+        }
+    }
+    // After the first steps F differs from 1 by the order of A π/L.
+    let f = &sim.particles.deformation;
+    assert!(f.iter().any(|&f| (f - 1.0).abs() > 1e-6), "{f:?}");
 }
