@@ -471,3 +471,72 @@ fn the_force_and_the_velocity_mapping_keep_their_own_quadratures() {
     assert_eq!(velocity, run(&[velocity_mapping], true));
     assert!(force.iter().any(|&f| f != 0.0) && velocity.iter().any(|&v| v != 0.0));
 }
+
+/// The TLS fit of the density averages (x − x_c)² the way the simulation
+/// says (`Settings::tls_density_average`, docs/conventions.md, "The TLS
+/// author's cell average"): the averages are equal in exact arithmetic, so
+/// on a bar far from the origin the projections differ only by the
+/// antiderivative's rounding, about |x|³ε/(b − a) ≈ 7e-8 against
+/// Δx²/3 ≈ 0.08 at x = 1000 (about 1e-6 relative), and they do differ.
+#[test]
+fn the_tls_density_fit_uses_the_cell_average_it_is_given_and_it_changes_only_rounding() {
+    use hompm::reconstruct::taylor::CellAverage;
+    let grid = Grid::new(Method::Bsmpm { degree: 2 }, 1000.0, 1004.0, 4).unwrap();
+    let p0 = particles(4, 3, &[0.1, 0.9, 0.4, 0.7, 0.2, 0.6, 0.5], &[0.3, 0.5, 0.2]);
+    let x = p0.x.iter().map(|x| 1000.0 + 4.0 * x).collect();
+    let volume = p0.volume.iter().map(|v| 4.0 * v).collect();
+    let p = Particles::new(
+        x,
+        volume,
+        p0.density.clone(),
+        p0.velocity.clone(),
+        p0.stress,
+    )
+    .unwrap();
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    let mass = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let velocity = |average: CellAverage| {
+        let mut ws = MappingWorkspace::new(&grid, p.len()).unwrap();
+        ws.begin_step_with(&grid, &p, &[Mapping::Tls], average)
+            .unwrap();
+        project_velocity(&grid, &p, &stencils, Mapping::Tls, mass, &mut ws).unwrap();
+        ws.velocity
+    };
+    let exact = velocity(CellAverage::Exact);
+    for average in [
+        CellAverage::AntiderivativeDifference,
+        CellAverage::AntiderivativeSixTerms,
+    ] {
+        let other = velocity(average);
+        assert_ne!(other, exact, "{average:?}");
+        assert!(
+            relative_l2_error(&other, &exact).unwrap() < 1e-5,
+            "{average:?}"
+        );
+    }
+}
+
+/// A workspace sized for n particles serves a step of m particles: the
+/// spline mappings (thesis §7.2) sort what the step hands them, not what
+/// the workspace was built for.
+#[test]
+fn a_spline_mapping_sorts_every_particle_of_the_step_whatever_the_workspace_was_built_for() {
+    let grid = Grid::new(Method::Bsmpm { degree: 2 }, 0.0, 1.0, 6).unwrap();
+    let p = particles(6, 3, &[0.1, 0.9, 0.4, 0.7, 0.2, 0.6, 0.5], &[0.3, 0.5, 0.2]);
+    let stencils = grid.stencils_at(&p.x).unwrap();
+    let velocity = |built_for: usize| {
+        let mut ws = MappingWorkspace::new(&grid, built_for).unwrap();
+        ws.begin_step(&grid, &p, &[Mapping::CubicSpline]).unwrap();
+        project_velocity(
+            &grid,
+            &p,
+            &stencils,
+            Mapping::CubicSpline,
+            MassMatrix::Lumped,
+            &mut ws,
+        )
+        .unwrap();
+        ws.velocity
+    };
+    assert_eq!(velocity(5), velocity(p.len()));
+}
