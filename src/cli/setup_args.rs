@@ -380,9 +380,11 @@ impl SetupArgs {
             Discretisation::new(method, mapping, self.mass_matrix()?, cells, self.ppc());
         discretisation.conventions = self.conventions()?;
         discretisation.conventions.check_1d(
-            discretisation.force_mapping == Mapping::Direct
-                && discretisation.velocity_mapping == Mapping::Direct
-                && discretisation.mass == MassMatrix::Lumped,
+            Mapping::takes_other_conventions(
+                discretisation.force_mapping,
+                discretisation.velocity_mapping,
+                discretisation.mass,
+            ),
             method,
         )?;
         let scene = match scene {

@@ -393,7 +393,7 @@ impl Conventions {
         let natural = self.knots == Knots::Natural;
         if (self.needs_grid_velocity() || natural) && !plain {
             return Err(Error::InvalidArgument(format!(
-                "{} is defined for the direct mapping with a lumped mass",
+                "{} is defined for the direct mapping with a lumped mass, or a mapping that maps the loads too (--mapping mls or mls-code-weights)",
                 self.flags(1).join(" ")
             )));
         }

@@ -13,7 +13,11 @@
 //! - by **cubic splines** through the particle values, evaluated at the
 //!   thesis' half-span Gauss points (thesis §7.2), with points outside the
 //!   continuum Ω_t ≈ [x_1 − V_1/2, x_N + V_N/2] deactivated and pairs that
-//!   straddle its edge redefined (thesis Figs. 7.3–7.4) ([`spline`]).
+//!   straddle its edge redefined (thesis Figs. 7.3–7.4) ([`spline`]);
+//! - by the **MLS paper's code's 1D MLS**: a quadratic moving least
+//!   squares fit per cell at two Gauss points, which maps the mass, the
+//!   momentum and the loads too (MLS paper Eqs. 14, 18–25, as
+//!   `MLS_BSMPM_solvertest1.m` of its code does; [`mls`]).
 //!
 //! The nodal velocity solves M v = p with M lumped (a division) or
 //! consistent (a sparse Cholesky, or the thesis' Richardson iteration)
@@ -51,19 +55,23 @@
 //! from the registration (tests/spec/meta/extensions.rs walks it).
 //!
 //! Items: [`Mapping`], [`MappingInfo1d`], [`ConsistentSolver`], [`MassMatrix`],
-//! [`MappingWorkspace`], [`internal_force`], [`project_velocity`],
+//! [`MappingWorkspace`], [`internal_force`], [`body_force`], [`project_velocity`],
 //! [`assemble_projection`]; the modules [`projection`], [`quadrature`],
-//! [`reconstruction`], [`spline`], [`tls`], and re-exported from them
-//! [`Projection`], [`solve_projection`], [`diagnose_projection`],
-//! [`Accumulator`], [`Reconstruction`], [`Reconstruction1d`],
-//! [`TlsWorkspace`], [`TLS_GAUSS_POINTS`], [`SplineWorkspace`].
+//! [`reconstruction`], [`spline`], [`tls`], [`mls`], and re-exported from
+//! them [`Projection`], [`solve_projection`], [`diagnose_projection`],
+//! [`solve_consistent_acceleration`], [`Accumulator`], [`Reconstruction`],
+//! [`Reconstruction1d`], [`TlsWorkspace`], [`TLS_GAUSS_POINTS`],
+//! [`SplineWorkspace`], [`MlsWorkspace`], [`MlsWeights`].
 
+pub mod mls;
 pub mod projection;
 pub mod quadrature;
 pub mod reconstruction;
 pub mod spline;
 pub mod tls;
 
+pub use mls::{MlsWeights, MlsWorkspace};
+pub use projection::solve_consistent_acceleration;
 pub use projection::{diagnose_projection, solve_projection, Projection};
 pub use quadrature::Accumulator;
 pub use reconstruction::{Reconstruction, Reconstruction1d};
@@ -97,6 +105,13 @@ pub enum Mapping {
     /// (issue #11; the rule under which TLS paper Table 7's spline mass
     /// errors appear, docs/conventions.md).
     CubicSplineClipped,
+    /// The MLS paper's code's 1D MLS ([`mls`]) with the consistent Gauss
+    /// weight h/2 in every integral (the fix of its weights).
+    Mls,
+    /// The MLS paper's code's 1D MLS with its own weights: the forces at
+    /// its 2D Gauss weight h²/4, the consistent mass at ρh/2
+    /// (`MLS_BSMPM_solvertest1.m:322-332, 363`).
+    MlsCodeWeights,
 }
 
 /// What the rest of hompm knows of a 1D mapping: its names and its cost.
@@ -115,15 +130,23 @@ pub struct MappingInfo1d {
     /// The reconstruction's cost on top of the direct step, in ns per
     /// particle-step (the command line's run-time estimate).
     pub extra_ns_per_particle_step: f64,
+    /// Whether the reconstruction maps the grid's mass, momentum and loads
+    /// too ([`Reconstruction1d::body_force`]): then another code's step
+    /// (`--scheme usl`, …) takes them from it, and a consistent mass is
+    /// the mass of its acceleration (docs/conventions.md, "The MLS
+    /// paper's code's 1D MLS").
+    pub maps_loads: bool,
 }
 
 impl Mapping {
     /// Every 1D mapping, in the order the command line lists them.
-    pub const ALL: [Mapping; 4] = [
+    pub const ALL: [Mapping; 6] = [
         Mapping::Direct,
         Mapping::Tls,
         Mapping::CubicSpline,
         Mapping::CubicSplineClipped,
+        Mapping::Mls,
+        Mapping::MlsCodeWeights,
     ];
 
     /// The registration of a mapping's names and cost.
@@ -135,6 +158,7 @@ impl Mapping {
                 label: "direct mapping",
                 summary: "particles as quadrature points (book Eqs. 4.5-4.10)",
                 extra_ns_per_particle_step: 0.0,
+                maps_loads: false,
             },
             Mapping::Tls => MappingInfo1d {
                 name: "tls",
@@ -142,6 +166,7 @@ impl Mapping {
                 label: "TLS mapping",
                 summary: "Taylor least squares (book §4.4.3, TLS paper §5.4)",
                 extra_ns_per_particle_step: 200.0,
+                maps_loads: false,
             },
             Mapping::CubicSpline => MappingInfo1d {
                 name: "cubic-spline",
@@ -149,6 +174,7 @@ impl Mapping {
                 label: "cubic-spline mapping",
                 summary: "cubic splines (thesis ch. 7), at the thesis' half-span Gauss points",
                 extra_ns_per_particle_step: 200.0,
+                maps_loads: false,
             },
             Mapping::CubicSplineClipped => MappingInfo1d {
                 name: "cubic-spline-clipped",
@@ -156,6 +182,23 @@ impl Mapping {
                 label: "clipped cubic-spline mapping",
                 summary: "cubic splines with every half span clipped to the continuum Ω_t",
                 extra_ns_per_particle_step: 200.0,
+                maps_loads: false,
+            },
+            Mapping::Mls => MappingInfo1d {
+                name: "mls",
+                legend: "MLS",
+                label: "MLS mapping",
+                summary: "the MLS paper's code's 1D MLS ([1, x, x²], one cell, 2 Gauss points), every integral at weight h/2",
+                extra_ns_per_particle_step: 300.0,
+                maps_loads: true,
+            },
+            Mapping::MlsCodeWeights => MappingInfo1d {
+                name: "mls-code-weights",
+                legend: "MLS (code's weights)",
+                label: "MLS mapping with the code's weights",
+                summary: "the same MLS with its code's weights: forces at h²/4, consistent mass at ρh/2 (MLS_BSMPM_solvertest1.m:322-332, 363)",
+                extra_ns_per_particle_step: 300.0,
+                maps_loads: true,
             },
         }
     }
@@ -174,12 +217,31 @@ impl Mapping {
             Mapping::Tls => Some(Box::new(TlsWorkspace::new(grid, particles)?)),
             Mapping::CubicSpline => Some(Box::new(SplineWorkspace::new(particles, false)?)),
             Mapping::CubicSplineClipped => Some(Box::new(SplineWorkspace::new(particles, true)?)),
+            Mapping::Mls => Some(Box::new(MlsWorkspace::new(
+                grid,
+                particles,
+                MlsWeights::Consistent,
+            )?)),
+            Mapping::MlsCodeWeights => Some(Box::new(MlsWorkspace::new(
+                grid,
+                particles,
+                MlsWeights::Code,
+            )?)),
         })
     }
 
     /// The mapping's name in JSON and on the command line.
     pub fn name(self) -> &'static str {
         self.info().name
+    }
+
+    /// Whether another code's step (docs/conventions.md, "Conventions of
+    /// other codes") can run with these mappings and this mass: the direct
+    /// mapping with a lumped mass, or one mapping that maps the loads too
+    /// ([`MappingInfo1d::maps_loads`]) for both the force and the velocity.
+    pub fn takes_other_conventions(force: Mapping, velocity: Mapping, mass: MassMatrix) -> bool {
+        let direct = force == Mapping::Direct && velocity == Mapping::Direct;
+        (direct && mass == MassMatrix::Lumped) || (force == velocity && force.info().maps_loads)
     }
 
     /// The mapping of a name, if one is registered under it.
@@ -353,6 +415,27 @@ pub fn internal_force(
         Some(r) => r.internal_force(particles, force)?,
     }
     Ok(())
+}
+
+/// The body force f_ext,i = ∫ (ρb)~ φ_i dΩ by the reconstruction of
+/// `mapping` (MLS paper Eqs. 20, 24; [`Reconstruction1d::body_force`]),
+/// with b_p = `body(k)`, added into `force`. The direct mapping and a
+/// reconstruction that does not map the loads refuse.
+pub fn body_force(
+    grid: &Grid,
+    particles: &Particles,
+    mapping: Mapping,
+    body: &dyn Fn(usize) -> f64,
+    ws: &mut MappingWorkspace,
+    force: &mut [f64],
+) -> Result<()> {
+    check_nodal(grid, force)?;
+    match reconstruction_of(&mut ws.reconstructions, mapping) {
+        None => Err(Error::Usage(
+            "the direct mapping maps the loads in the step itself".into(),
+        )),
+        Some(r) => r.body_force(particles, body, force),
+    }
 }
 
 fn check_nodal(grid: &Grid, v: &[f64]) -> Result<()> {

@@ -11,8 +11,9 @@
 //!   and the cause):
 //!   - the energy Σ ½ m_p v_p² + ½ σ_p ε_p V_p grows beyond
 //!     [`ENERGY_GROWTH_BOUND`] × (initial energy + the most work the loads
-//!     can do), where the loads can do at most (Σ m_p |g| + Σ |f_p^trac|) × L
-//!     over a domain of length L;
+//!     can do), where the loads can do at most
+//!     (Σ m_p (|g| + max|b|) + Σ |f_p^trac|) × L over a domain of length L,
+//!     max|b| the bound of a body-force field (`BodyForceField::bound`);
 //!   - a strain |ε_p| ≥ 1, i.e. a 1D Jacobian J = 1 + ε ≤ 0 or a doubled
 //!     length: far outside the small-strain models of the seeds;
 //! - **suspicious** (a [`Warning`], the run goes on): negative lumped masses
@@ -161,8 +162,9 @@ impl StabilityMonitor {
         let p = &sim.particles;
         let (a, b) = sim.grid.domain();
         let gravity = sim.settings.gravity.abs();
+        let body = sim.settings.body_force.as_ref().map_or(0.0, |b| b.bound);
         let loads: f64 = (0..p.len())
-            .map(|k| p.mass[k] * gravity + p.traction[k].abs())
+            .map(|k| p.mass[k] * (gravity + body) + p.traction[k].abs())
             .sum();
         let energy_budget = ENERGY_GROWTH_BOUND * (sim.energy().abs() + loads * (b - a));
         let mut warnings = Vec::new();

@@ -33,6 +33,12 @@
 //! tests plant defects through it. [`Simulation::step`] passes
 //! [`NoObserver`], whose empty calls the compiler removes.
 //!
+//! Another code's step (`--scheme usl`, …; [`super::conventions`]) adds
+//! the grid velocity at the start of the step; with a mapping that maps
+//! the loads too (the MLS paper's code's MLS, `super::mapping::mls`),
+//! steps 1–2 take the mass, momentum, loads and, with a consistent mass,
+//! the acceleration from the mapping (the child module `reconstructed`).
+//!
 //! What a run is set up with, [`Settings`] and [`Constitutive`], is in
 //! [`super::settings`] (re-exported here).
 //!
@@ -50,6 +56,8 @@ pub use manufactured::neo_hookean_1d;
 
 mod manufactured;
 mod other_codes;
+mod physical;
+mod reconstructed;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use other_codes::{check_conventions, move_and_strain};
@@ -212,7 +220,7 @@ impl Simulation {
         let conventions = self.settings.conventions;
         let other_code = conventions.needs_grid_velocity();
         self.evaluate_basis_at_particles()?;
-        self.map_mass_and_loads();
+        self.map_mass_and_loads()?;
         observer.observe(StepPoint::MassAndLoads, self)?;
         if other_code {
             self.map_grid_velocity();
@@ -293,7 +301,10 @@ impl Simulation {
     /// Step 1, book Eq. (4.5) and thesis §3.2: the lumped mass
     /// m_i = Σ_p m_p φ_i(x_p), and the gravity and traction loads
     /// Σ_p m_p g φ_i(x_p) and Σ_p f_p^trac φ_i(x_p).
-    fn map_mass_and_loads(&mut self) {
+    fn map_mass_and_loads(&mut self) -> Result<()> {
+        if self.through_reconstruction() {
+            return self.map_mass_and_loads_through_reconstruction();
+        }
         let g = self.gravity_at(self.time);
         let (p, ws) = (&self.particles, &mut self.workspace);
         for v in [&mut ws.mass, &mut ws.gravity_force, &mut ws.traction_force] {
@@ -319,6 +330,7 @@ impl Simulation {
                 .scatter_values(|k| p.traction[k], &mut ws.traction_force);
         }
         self.map_body_force_field();
+        Ok(())
     }
 
     /// Step 1, book Eq. (4.6) (or Eq. 4.38 with TLS, thesis §7.2 with
@@ -355,7 +367,7 @@ impl Simulation {
         if self.settings.consistent_acceleration {
             self.consistent_nodal_acceleration()?;
         }
-        Ok(())
+        self.acceleration_through_reconstruction()
     }
 
     /// Step 2's boundary conditions: a_i = 0 on the Dirichlet DOFs.
@@ -529,46 +541,6 @@ impl Simulation {
             ws.counted_at[k] = p.x[k];
         }
         self.diagnostics.record_particles(&p.strain, crossings);
-    }
-
-    /// A typed [`Error::NonPhysicalParticle`] if a particle's position,
-    /// velocity or stress is non-finite or its volume non-positive (the
-    /// first such particle); else [`Error::ParticleLeftGrid`] for the first
-    /// particle outside the grid. [`Simulation::step`] ends with this check;
-    /// it is public so that a caller who edits the particles between steps
-    /// can run it too.
-    pub fn check_particles_are_physical(&self) -> Result<()> {
-        let p = &self.particles;
-        let (lo, hi) = self.grid.domain();
-        let mut outside = None;
-        for k in 0..p.len() {
-            let finite = p.x[k].is_finite() && p.velocity[k].is_finite() && p.stress[k].is_finite();
-            if !finite || p.volume[k] <= 0.0 {
-                return Err(Error::NonPhysicalParticle {
-                    particle: k,
-                    step: self.diagnostics.steps,
-                    time: self.time,
-                    x: p.x[k],
-                    velocity: p.velocity[k],
-                    stress: p.stress[k],
-                    volume: p.volume[k],
-                    negative_masses: self.diagnostics.negative_mass_steps > 0,
-                });
-            }
-            if outside.is_none() && (p.x[k] < lo || p.x[k] > hi) {
-                outside = Some(k);
-            }
-        }
-        if let Some(k) = outside {
-            return Err(Error::ParticleLeftGrid {
-                particle: k,
-                step: self.diagnostics.steps,
-                x: p.x[k],
-                a: lo,
-                b: hi,
-            });
-        }
-        Ok(())
     }
 }
 

@@ -42,6 +42,10 @@ pub struct BodyForceField {
     pub name: &'static str,
     /// b(X, t).
     pub at: std::sync::Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>,
+    /// An upper bound of |b(X, t)| over the body and the run: the
+    /// stability monitor counts the work Σ_p m_p · bound · L among the
+    /// loads' (`mpm::monitor`, as the 2D monitor counts its body force's).
+    pub bound: f64,
 }
 
 impl std::fmt::Debug for BodyForceField {

@@ -144,6 +144,25 @@ impl StripParameters {
             * (lambda / (f * f) * (1.0 - f.ln()) + mu / (f * f) * (f * f + 1.0) - self.young)
     }
 
+    /// An upper bound of |b(X, t)| over every X and t (the stability
+    /// monitor's loads): |u| ≤ A and F ∈ [1 − Aπ/L, 1 + Aπ/L], and
+    /// g(F) = λ(1 − ln F)/F² + μ(F² + 1)/F² − E has
+    /// g′(F) = −(λ(3 − 2 ln F) + 2μ)/F³ < 0 there (3λ + 2μ > 0 for
+    /// −1 < ν < ½, and |ln F| small), so |g| is largest at an end:
+    /// π²A/(ρ₀L²) · max(|g(F_min)|, |g(F_max)|). Infinite when
+    /// Aπ/L ≥ 1 (F may reach 0).
+    pub fn body_force_bound(&self) -> f64 {
+        let (lambda, mu) = self.lame();
+        let spread = self.amplitude.abs() * PI / self.length;
+        if spread >= 1.0 {
+            return f64::INFINITY;
+        }
+        let g =
+            |f: f64| lambda / (f * f) * (1.0 - f.ln()) + mu / (f * f) * (f * f + 1.0) - self.young;
+        let largest = g(1.0 - spread).abs().max(g(1.0 + spread).abs());
+        PI * PI * self.amplitude.abs() / self.density / (self.length * self.length) * largest
+    }
+
     /// The code's Δt = courant·h/c and its number of steps: the loop
     /// `t = 0; while t < end_time + 1e-7: t += Δt`, counted with the same
     /// floating-point sums (41 steps to t = 0.0205 on 8 cells).
@@ -209,6 +228,7 @@ impl StripParameters {
         settings.body_force = Some(BodyForceField {
             name: "manufactured strip: b = (π²u/(ρ₀L²))(λ(1 − ln F)/F² + μ(F² + 1)/F² − E)",
             at: std::sync::Arc::new(move |x0, t| me.body_force(x0, t)),
+            bound: me.body_force_bound(),
         });
         Simulation::new(grid, particles, settings)
     }

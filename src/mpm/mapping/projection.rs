@@ -11,7 +11,12 @@
 //! `MappingWorkspace`, whose public fields hold what the projection
 //! computed.
 //!
-//! Items: [`Projection`], [`solve_projection`], [`diagnose_projection`].
+//! Another code's step through a reconstruction that maps the loads
+//! solves its acceleration with the same consistent matrix,
+//! M a = f_ext − f_int ([`solve_consistent_acceleration`]).
+//!
+//! Items: [`Projection`], [`solve_projection`], [`diagnose_projection`],
+//! [`solve_consistent_acceleration`].
 
 use super::{ConsistentSolver, MappingWorkspace, MassMatrix};
 use crate::error::Result;
@@ -105,6 +110,44 @@ pub fn solve_projection(
     }
     ws.solver_iterations = iterations;
     Ok(iterations)
+}
+
+/// Solves M a = `force` on the DOFs the mapped mass reaches (M_ii ≠ 0)
+/// that are not `fixed`, with M the consistent matrix the last
+/// [`super::assemble_projection`] assembled, by sparse Cholesky; a = 0 on
+/// every other DOF. This is the MLS paper's code's `nacc = MASS\nforce`
+/// (`MLS_BSMPM_solvertest1.m:367-394`): its boundary rows and columns are
+/// set apart with a diagonal entry and their accelerations then zeroed,
+/// which leaves the other DOFs' system the submatrix solved here.
+pub fn solve_consistent_acceleration(
+    ws: &mut MappingWorkspace,
+    force: impl Fn(usize) -> f64,
+    fixed: &[usize],
+    acceleration: &mut [f64],
+) -> Result<()> {
+    let n = ws.diagonal.len();
+    if acceleration.len() != n {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "a nodal vector has {} entries for {n} DOFs",
+            acceleration.len()
+        )));
+    }
+    let full = ws.solve.band.to_sparse()?;
+    ws.solve.active.clear();
+    ws.solve
+        .active
+        .extend((0..n).filter(|&i| ws.diagonal[i] != 0.0 && !fixed.contains(&i)));
+    let sub = full.submatrix(&ws.solve.active, &ws.solve.active);
+    ws.solve.rhs.clear();
+    ws.solve
+        .rhs
+        .extend(ws.solve.active.iter().map(|&i| force(i)));
+    let x = cholesky_solve(&sub, &ws.solve.rhs)?;
+    acceleration.fill(0.0);
+    for (k, &i) in ws.solve.active.iter().enumerate() {
+        acceleration[i] = x[k];
+    }
+    Ok(())
 }
 
 /// The projection's diagnostics (TLS paper Tables 3, 5, 7; thesis §7.2.4):

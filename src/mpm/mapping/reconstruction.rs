@@ -10,7 +10,8 @@
 //! reports of its last step, its name, the largest condition number of the
 //! small systems it solved and how many cells or points it repaired (TLS
 //! paper §5.3). 2D's `mpm2d::reconstruction::GaussReconstruction` (MLS,
-//! TLS) and 1D's [`Reconstruction1d`] (TLS, cubic splines) both extend it.
+//! TLS) and 1D's [`Reconstruction1d`] (TLS, cubic splines, the MLS
+//! paper's code's MLS) both extend it.
 //!
 //! **Not shared**: how the values are made and integrated. A 2D
 //! reconstruction is linear in the data and is known by its shape
@@ -33,7 +34,7 @@
 //! Items: [`Reconstruction`], [`Reconstruction1d`].
 
 use super::quadrature::Accumulator;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mpm::grid::Grid;
 use crate::mpm::particles::Particles;
 use crate::reconstruct::taylor::CellAverage;
@@ -84,4 +85,22 @@ pub trait Reconstruction1d: Reconstruction {
     /// the projection's p and M (book Eqs. 4.39–4.44, thesis §7.2).
     fn accumulate_projection(&mut self, particles: &Particles, acc: &mut Accumulator)
         -> Result<()>;
+
+    /// Adds f_ext,i = ∫ (ρb)~ φ_i dΩ by this step's quadrature into
+    /// `force`, with b_p = `body(k)` the body force per unit mass at
+    /// particle k: the loads mapped through the reconstruction, as the MLS
+    /// paper's code maps them (MLS paper Eqs. 20, 24; its
+    /// `MLS_BSMPM_solvertest1.m:298, 332`). Only a mapping registered with
+    /// `MappingInfo1d::maps_loads` has it; the others refuse.
+    fn body_force(
+        &mut self,
+        _particles: &Particles,
+        _body: &dyn Fn(usize) -> f64,
+        _force: &mut [f64],
+    ) -> Result<()> {
+        Err(Error::Usage(format!(
+            "the {} mapping does not map the loads: another code's step runs with the direct mapping or the MLS mappings",
+            self.name()
+        )))
+    }
 }

@@ -10,17 +10,21 @@
 use super::{Particles, Result, Settings, Simulation, Stencils};
 use crate::error::Error;
 use crate::mpm::grid::Grid;
-use crate::mpm::mapping::{Mapping, MassMatrix};
+use crate::mpm::mapping::Mapping;
 
 impl Simulation {
     /// Another code's step ([`super::conventions`]), step 1: the grid
     /// momentum p_i = Σ_p m_p v_p φ_i(x_p) and velocity v_i^n = p_i/m_i
-    /// (0 without mass and on the Dirichlet DOFs).
+    /// (0 without mass and on the Dirichlet DOFs). Through a
+    /// reconstruction, p_i and m_i are its own, from step 1.
     pub(super) fn map_grid_velocity(&mut self) {
+        let through_reconstruction = self.through_reconstruction();
         let (p, ws) = (&self.particles, &mut self.workspace);
-        ws.nodal_momentum.fill(0.0);
-        ws.stencils
-            .scatter_values(|k| p.mass[k] * p.velocity[k], &mut ws.nodal_momentum);
+        if !through_reconstruction {
+            ws.nodal_momentum.fill(0.0);
+            ws.stencils
+                .scatter_values(|k| p.mass[k] * p.velocity[k], &mut ws.nodal_momentum);
+        }
         for ((v, &pi), &m) in ws
             .nodal_velocity
             .iter_mut()
@@ -72,14 +76,16 @@ impl Simulation {
 }
 
 /// Refuses another code's conventions where they mean nothing: they are
-/// defined for the direct mapping with a lumped mass (natural knots for
-/// B-splines of degree 2 or 3), and the grid's knots must be the ones
+/// defined for the direct mapping with a lumped mass, or a mapping that
+/// maps the loads too (`Mapping::takes_other_conventions`; natural knots
+/// for B-splines of degree 2 or 3), and the grid's knots must be the ones
 /// `--knots` names.
 pub(super) fn check_conventions(settings: &Settings, grid: &Grid) -> Result<()> {
-    let plain = settings.force_mapping == Mapping::Direct
-        && settings.velocity_mapping == Mapping::Direct
-        && settings.mass == MassMatrix::Lumped
-        && !settings.consistent_acceleration;
+    let plain = Mapping::takes_other_conventions(
+        settings.force_mapping,
+        settings.velocity_mapping,
+        settings.mass,
+    ) && !settings.consistent_acceleration;
     settings.conventions.check_1d(plain, grid.method())?;
     if grid.knots() != settings.conventions.knots {
         return Err(Error::InvalidArgument(format!(
