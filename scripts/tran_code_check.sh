@@ -162,8 +162,10 @@ echo "errors: $summary"
 
 # Each strip file checked with one `hompm check` line (issue #40): the
 # code's MPM is MUSL moving particles with the updated grid momentum
-# (--positions grid), its BSMPM is USL (--scheme usl); Δt and steps are the
-# file's own. Its MLS_BSMPM has no hompm counterpart and is not checked.
+# (--positions grid), its BSMPM is USL (--scheme usl), its MLS_BSMPM is
+# USL with cubic B-splines, the code's 1D MLS with the code's own weights
+# and the consistent mass (--mapping mls-code-weights --mass consistent,
+# src/mpm/mapping/mls.rs); Δt and steps are the file's own.
 hompm=${HOMPM:-$(cd "$(dirname "$0")/.." && pwd)/target/release/hompm}
 if [ -z "${HOMPM:-}" ] && [ ! -x "$hompm" ]; then
   (cd "$(dirname "$0")/.." && cargo build --release --quiet)
@@ -174,7 +176,8 @@ for method in $methods_1d; do
   case $method in
     MPM) flags="--method mpm --positions grid" ;;
     BSMPM) flags="--method bsmpm --degree 2 --scheme usl" ;;
-    *) echo "== strip-$method: not checked (hompm has no 1D MLS of this code's)"; continue ;;
+    MLS_BSMPM) flags="--method bsmpm --degree 3 --mapping mls-code-weights --mass consistent --scheme usl" ;;
+    *) echo "== strip-$method: not checked (no hompm counterpart)"; continue ;;
   esac
   for cells in $cells_1d; do
     f=$out/strip-$method-$cells.csv

@@ -38,29 +38,31 @@ use serde::Serialize;
 use std::f64::consts::PI;
 
 /// One named parameter set of the strip; every value cites the code's
-/// `Vibration.m` (f30bc24) by line.
+/// `Vibration.m` (f30bc24) by line (line numbers of `git show
+/// f30bc24:Vibration.m`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StripParameters {
     /// Name: `mls-paper-code`.
     pub name: &'static str,
-    /// Young's modulus E (`E = 10000000`, line 21).
+    /// Young's modulus E (`E = 10000000`, line 23).
     pub young: f64,
-    /// Density ρ₀ (`psp = 1000.0`, line 22).
+    /// Density ρ₀ (`psp = 1000.0`, line 24).
     pub density: f64,
-    /// Poisson's ratio ν (`nu = 0.0`, line 23).
+    /// Poisson's ratio ν (`nu = 0.0`, line 25).
     pub poisson: f64,
-    /// Amplitude A (`A = 0.0001`, line 16).
+    /// Amplitude A (`A = 0.0001`, line 19).
     pub amplitude: f64,
-    /// Length L of the body (the particles fill 1/le(1) cells, lines 127–137).
+    /// Length L of the body (`le(1) = 1/resolution`, line 35; the particles fill
+    /// `resolution*particle_per_cell` slots of le(1)/5, lines 107–122).
     pub length: f64,
-    /// Empty cells left of the body (`x_min = 2*le(1)`, line 112).
+    /// Empty cells left of the body (`x_min = 2*le(1)`, line 96).
     pub offset_cells: usize,
-    /// Δt = courant·h/c (`dt = 0.4*le(1)/C`, line 104).
+    /// Δt = courant·h/c (`dt = 0.4*le(1)/C`, line 90).
     pub courant: f64,
-    /// The loop runs while t < end_time + 1e-7 (`ftime = 0.02`, line 103;
-    /// `while t<ft+0.0000001`, line 190).
+    /// The loop runs while t < end_time + 1e-7 (`ftime = 0.02`, line 89;
+    /// `while t<ft+0.0000001`, line 189).
     pub end_time: f64,
-    /// Particles per cell (`particle_per_cell = 5`, line 122).
+    /// Particles per cell (`particle_per_cell = 5`, line 107).
     pub ppc: usize,
     /// The body's left end a = offset·h for the run's cells
     /// ([`StripParameters::placed`]); 0 in the named set.
@@ -93,7 +95,7 @@ impl StripParameters {
         (self.young / self.density).sqrt()
     }
 
-    /// Lamé's λ and μ (`Lambda`, `Mu`, lines 25–26).
+    /// Lamé's λ and μ (`Lambda`, `Mu`, lines 27–28).
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);
         (e * nu / (1.0 + nu) / (1.0 - 2.0 * nu), e / 2.0 / (1.0 + nu))
