@@ -465,6 +465,9 @@ impl Simulation {
     /// already and only moves the particles.
     fn update_particle_positions(&mut self, dt: f64) {
         let conventions = self.settings.conventions;
+        if conventions.scheme == Scheme::Usl && self.through_reconstruction() {
+            return self.move_and_strain_as_the_mls_code(dt);
+        }
         let (p, ws) = (&mut self.particles, &mut self.workspace);
         let s = &ws.stencils;
         let moved_by = match conventions.positions {

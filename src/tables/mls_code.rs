@@ -112,7 +112,7 @@ fn notes(study: &StripStudy) -> Vec<String> {
             fixed(&|q| mls_order(&study.mls_fixed, q)),
             fixed(&|q| mls_ratio(&study.mls_fixed, &study.bsmpm, q)),
         ),
-        "MPM and BSMPM agree with the code's own files to 0.17-0.45 of the check's tolerance at every size, MLS_BSMPM (code's weights) at 8 cells to 0.24; at 16-64 cells it differs by 1.5-11 times the tolerance in v at the particles next to the right wall, where hompm's own fit in centred coordinates (the same shape functions but for rounding) differs from its uncentred one by as much (hompm check manufactured-strip; docs/reproduction-notes.md).".to_string(),
+        "MPM and BSMPM agree with the code's own files to 0.17-0.45 of the check's tolerance at every size; MLS_BSMPM (code's weights) at 8 and 16 cells (0.10, 0.28), and at 32 and 64 cells it differs in v (5.7 and 59 times the tolerance, at most 6e-10 of max|v|): its uncentred fit (kappa up to 8e10) makes the run sensitive to rounding, and one ulp of the initial positions moves hompm's own run by 0.75-2.2 and 7-56 times the tolerance there (hompm check manufactured-strip; docs/reproduction-notes.md).".to_string(),
     ];
     for (name, runs) in [
         ("MPM", &study.mpm),

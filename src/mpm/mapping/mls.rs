@@ -10,7 +10,8 @@
 //! - **Gauss points**: two per cell that holds particles
 //!   (`GaussCount = 2`, line 8, overriding `Vibration.m:46`'s 4; the
 //!   first two points of the code's 2×2 rule, `lgwt(2, …)`,
-//!   `Vibration.m:59-67`, both on the lower Gauss row);
+//!   `Vibration.m:59-67`, both on the lower Gauss row), placed with the
+//!   code's arithmetic (`MlsWorkspace::code_gauss_point`);
 //! - **weight**: the quadratic B-spline w(r) of MLS paper Eq. (17) at
 //!   r = |x_g − x_p|/h, support 1.5h (lines 177-186: `rx = abs(dx)/le(1)`,
 //!   not the paper's /(2h));
@@ -20,8 +21,9 @@
 //!   line 7; `Pxy = [1; x; x²]`, lines 197-198, 218-219, 233);
 //! - **shape functions**: A_g = Σ_p w_pg p(x_p) p(x_p)ᵀ (MLS paper Eq. 10,
 //!   lines 201-207) and N_p(x_g) = p(x_g)ᵀ A_g⁻¹ w_pg p(x_p) (Eq. 14,
-//!   lines 238-239), solved with A_g symmetric positive definite
-//!   (Octave's `\` takes a Cholesky factorisation there);
+//!   lines 238-239), solved as Octave solves it: a Cholesky factorisation
+//!   of the symmetric positive definite A_g, in LAPACK's order of
+//!   operations (`solve_as_lapack`, whose docs say why the order matters);
 //! - **the fits** at the Gauss points, particles in index order (MLS paper
 //!   Eqs. 18-21, lines 294-300): ρ̃ = Σ ρ_p N_p, (ρv)~ = Σ ρ_p v_p N_p,
 //!   (ρb)~ = Σ ρ_p b_p N_p, σ̃ = Σ σ_p N_p;
@@ -59,7 +61,7 @@ use super::reconstruction::{Reconstruction, Reconstruction1d};
 use crate::error::{Error, Result};
 use crate::mpm::grid::Grid;
 use crate::mpm::particles::Particles;
-use crate::quadrature::GaussLegendre;
+use crate::quadrature::{GaussLegendre, QuadraturePoint};
 use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
 use crate::reconstruct::taylor::{CellAverage, CellBins};
 use crate::spline::bspline::SpanScratch;
@@ -103,6 +105,10 @@ pub struct MlsWorkspace {
     /// The factor of the forces' weights: h/2 (the code's second Gauss
     /// direction) or 1.
     force_factor: f64,
+    /// The index, counted from x = 0, of the grid's first cell, when the
+    /// grid's left end lies on the lattice kh as the code's grids do
+    /// (`code_gauss_point`).
+    first_cell_from_zero: Option<f64>,
     largest_condition: f64,
 }
 
@@ -122,6 +128,11 @@ impl MlsWorkspace {
             force_factor: match weights {
                 MlsWeights::Code => 0.5 * grid.cell_size(),
                 MlsWeights::Consistent => 1.0,
+            },
+            first_cell_from_zero: {
+                let (left, h) = (grid.domain().0, grid.cell_size());
+                let k = (left / h).round();
+                ((k * h - left).abs() <= 1e-12 * h).then_some(k)
             },
             largest_condition: 0.0,
         })
@@ -143,6 +154,33 @@ impl MlsWorkspace {
                 fa[first + g] += ak * shape;
                 fb[first + g] += bk * shape;
             }
+        }
+    }
+
+    /// Gauss point g of cell e, at the position the code's `lgwt.m`
+    /// computes (`Vibration.m:62-67`): x_g = (a(1 − y_g) + b(1 + y_g))/2
+    /// with a, b = c ∓ h/2 about the code's centroid c = kh + h/2
+    /// (`Grid_Generation.m:25`, k counted from x = 0) and y_g = ∓1/√3 as
+    /// `lgwt.m`'s Newton iteration ends in double precision, 1/√3 correctly
+    /// rounded (hompm's own Gauss–Legendre node is one ulp lower), when the
+    /// grid lies on that lattice; the rule's own point otherwise. One ulp
+    /// of x_g moves the uncentred fit by up to 1e-7 at 64 cells
+    /// (`solve_as_lapack`), so the code's arithmetic is kept. The weight is
+    /// the rule's, (b − a)/2 of hompm's cell.
+    fn code_gauss_point(&self, grid: &Grid, e: usize, g: usize) -> QuadraturePoint {
+        let (a, b) = grid.cell_bounds(e);
+        let own = self.rule.point(g, a, b);
+        let Some(first) = self.first_cell_from_zero else {
+            return own;
+        };
+        let h = grid.cell_size();
+        let centre = (first + e as f64) * h + h / 2.0;
+        let (a, b) = (centre - 0.5 * h, centre + 0.5 * h);
+        let root = 1.0 / 3f64.sqrt();
+        let y = if g == 0 { -root } else { root };
+        QuadraturePoint {
+            x: (a * (1.0 - y) + b * (1.0 + y)) / 2.0,
+            weight: own.weight,
         }
     }
 
@@ -191,15 +229,64 @@ pub fn cell_shape_functions(
     if kappa.is_nan() || kappa > MLS_MAX_CONDITION {
         return Err(singular(kappa));
     }
-    let r = a
-        .cholesky()
-        .ok_or_else(|| singular(f64::INFINITY))?
-        .solve(&basis(x_gauss));
+    let r = solve_as_lapack(&a, &basis(x_gauss)).ok_or_else(|| singular(f64::INFINITY))?;
     for (s, xp) in shape.iter_mut().zip(points) {
         let (w, p) = (weight(xp), basis(xp));
         *s = (r[0] * w) * p[0] + (r[1] * w) * p[1] + (r[2] * w) * p[2];
     }
     Ok(kappa)
+}
+
+/// A r = b for the symmetric positive definite 3×3 moment matrix, in the
+/// order of operations of the code's `rc = Ac{cpid,g} \ pc` (line 238)
+/// under Octave with OpenBLAS: Octave factors a symmetric matrix with a
+/// positive diagonal by Cholesky, A = UᵀU (LAPACK `dpotrf`, whose
+/// unblocked `dpotf2` scales row j of U by the reciprocal 1/u_jj), and
+/// solves Uᵀy = b and U r = y with the triangular kernels, which multiply
+/// by the reciprocals of the pivots. The uncentred basis makes A
+/// ill-conditioned (κ up to 8e10 on 64 cells), so the order shows: with
+/// it the shape functions agree with those the code printed to 5e-12 at
+/// 64 cells (8e-14 at 8), against 3e-8 with a Cholesky solve that divides
+/// by the pivots (docs/reproduction-notes.md). `None` if A is not positive
+/// definite.
+fn solve_as_lapack(a: &Matrix3<f64>, b: &Vector3<f64>) -> Option<Vector3<f64>> {
+    let mut u = Matrix3::<f64>::zeros();
+    for j in 0..3 {
+        let mut square = 0.0;
+        for i in 0..j {
+            square += u[(i, j)] * u[(i, j)];
+        }
+        let pivot = a[(j, j)] - square;
+        if pivot.is_nan() || pivot <= 0.0 {
+            return None;
+        }
+        u[(j, j)] = pivot.sqrt();
+        let reciprocal = 1.0 / u[(j, j)];
+        for k in j + 1..3 {
+            let mut t = a[(j, k)];
+            for i in 0..j {
+                t -= u[(i, j)] * u[(i, k)];
+            }
+            u[(j, k)] = t * reciprocal;
+        }
+    }
+    let mut y = Vector3::zeros();
+    for i in 0..3 {
+        let mut t = b[i];
+        for k in 0..i {
+            t -= u[(k, i)] * y[k];
+        }
+        y[i] = t * (1.0 / u[(i, i)]);
+    }
+    let mut r = Vector3::zeros();
+    for i in (0..3).rev() {
+        let mut t = y[i];
+        for k in i + 1..3 {
+            t -= u[(i, k)] * r[k];
+        }
+        r[i] = t * (1.0 / u[(i, i)]);
+    }
+    Some(r)
 }
 
 impl Reconstruction for MlsWorkspace {
@@ -224,8 +311,7 @@ impl Reconstruction1d for MlsWorkspace {
         self.bins.fill(grid.num_cells(), x.len(), |k| {
             Ok((grid.cell_of(x[k])?, None))
         })?;
-        let q = &mut self.quadrature;
-        q.clear();
+        self.quadrature.clear();
         self.first_point.clear();
         self.first_point.resize(x.len(), 0);
         self.shape.clear();
@@ -245,10 +331,9 @@ impl Reconstruction1d for MlsWorkspace {
                     members.len()
                 )));
             }
-            let (a, b) = grid.cell_bounds(e);
             for g in 0..MLS_STRIP_GAUSS_POINTS {
-                let point = self.rule.point(g, a, b);
-                let first = q.points.len() - g;
+                let point = self.code_gauss_point(grid, e, g);
+                let first = self.quadrature.points.len() - g;
                 let positions = members.iter().map(|&k| x[k]);
                 let kappa = cell_shape_functions(point.x, positions, h, 0.0, &mut local)?;
                 self.largest_condition = self.largest_condition.max(kappa);
@@ -256,10 +341,10 @@ impl Reconstruction1d for MlsWorkspace {
                     self.first_point[k] = first;
                     self.shape[MLS_STRIP_GAUSS_POINTS * k + g] = s;
                 }
-                q.push(point, e);
+                self.quadrature.push(point, e);
             }
         }
-        q.evaluate(grid, &mut self.scratch)
+        self.quadrature.evaluate(grid, &mut self.scratch)
     }
 
     /// f_int,i = Σ_g σ̃(x_g) ∇φ_i(x_g) ω_g, ω_g at the forces' weight

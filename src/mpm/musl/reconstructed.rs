@@ -19,6 +19,11 @@
 //! - step 2 with `--mass consistent`: M a = f_ext − f_int with M the
 //!   fits' consistent mass (lines 358-394); with `--mass lumped`,
 //!   a = f/m_i.
+//! - steps 5–6 under USL in the code's order of operations (lines
+//!   410-423, 534-537): x_p gains one term (Δt φ_i) ṽ_i per function, in
+//!   turn, and u_p = x_p − X_p. The order matters here as nowhere else: the
+//!   next step's uncentred MLS fit (κ up to 8e10 on 64 cells) turns one
+//!   ulp of x_p into 1e-8 in its shape functions.
 
 use super::Simulation;
 use crate::error::Result;
@@ -64,6 +69,27 @@ impl Simulation {
                 .scatter_values(|k| p.traction[k], &mut ws.traction_force);
         }
         Ok(())
+    }
+
+    /// Steps 5–6 through the reconstruction under USL, as the code writes
+    /// them (`MLS_BSMPM_solvertest1.m:410-423, 534-537`): for each function
+    /// i in turn x_p ← x_p + (Δt φ_i(x_p)) ṽ_i, then u_p = x_p − X_p; the
+    /// strain increment Δε_p = (Σ_i ṽ_i ∇φ_i(x_p)) Δt (its L Δt).
+    pub(super) fn move_and_strain_as_the_mls_code(&mut self, dt: f64) {
+        let (p, ws) = (&mut self.particles, &mut self.workspace);
+        let (s, v) = (&ws.stencils, &ws.updated_velocity);
+        let w = s.width();
+        for (k, increment) in ws.strain_increment.iter_mut().enumerate() {
+            let first = s.first[k];
+            let (values, gradients) = (s.values_of(k), s.gradients_of(k));
+            let mut gradient = 0.0;
+            for i in 0..w {
+                p.x[k] += dt * values[i] * v[first + i];
+                gradient += v[first + i] * gradients[i];
+            }
+            p.displacement[k] = p.x[k] - p.x0[k];
+            *increment = gradient * dt;
+        }
     }
 
     /// Step 2 through the reconstruction with a consistent mass:

@@ -2,10 +2,10 @@
 //! (`MLS_BSMPM_solvertest1.m` of
 //! QuocAnh90/CPLS-least-squares-for-Material-Point-Method at f30bc24;
 //! `mpm::mapping::mls`, issue #40): its 1D MLS fit, its weights and their
-//! fix, and the code's own output file at 8 cells
-//! (tests/fixtures/tran/strip-MLS_BSMPM-8.csv, written by
-//! `scripts/tran_code_check.sh` from `Vibration('MLS_BSMPM', 8)` under GNU
-//! Octave 7.3) checked with one `hompm check` line.
+//! fix, and the code's own output files at 8 and 16 cells
+//! (tests/fixtures/tran/strip-MLS_BSMPM-{8,16}.csv, written by
+//! `scripts/tran_code_check.sh` from `Vibration('MLS_BSMPM', N)` under GNU
+//! Octave 7.3) checked with one `hompm check` line each.
 
 use approx::assert_relative_eq;
 use hompm::mpm::mapping::mls::cell_shape_functions;
@@ -31,10 +31,13 @@ fn the_code_s_mls_is_a_quadratic_fit_weighted_at_the_cell_size_over_one_cell() {
     let points = [0.1, 0.3, 0.6, 0.9];
     let mut shape = [0.0; 4];
     let kappa = cell_shape_functions(0.5, points.iter().copied(), 1.0, 0.0, &mut shape).unwrap();
+    // κ(A) is about 6e2 here, and the solve's rounding reaches 1e-13 of
+    // the smallest N_p (0.047): 1e-12 relative is that rounding, not a
+    // formula's difference (the alternatives below differ by 1e-3 and more).
+    assert!(kappa > 1e2 && kappa < 1e3, "κ = {kappa:e}");
     for (ours, exact) in shape.iter().zip(HAND_FIT) {
-        assert_relative_eq!(*ours, exact, max_relative = 1e-13);
+        assert_relative_eq!(*ours, exact, max_relative = 1e-12);
     }
-    assert!(kappa > 1.0 && kappa.is_finite());
     // The same fit with the paper's weight scale 2h (MLS paper Eq. 17) or
     // a linear basis (Eq. 15) is another set of numbers (by the same
     // rational computation: −0.1203… and 0.1987… for the first particle),
@@ -127,8 +130,11 @@ fn fixture(name: &str) -> String {
         .to_string()
 }
 
-fn check(mapping: &str) -> hompm::cli::Output {
-    let input = fixture("strip-MLS_BSMPM-8.csv");
+fn check(mapping: &str, cells: usize) -> hompm::cli::Output {
+    let input = fixture(&format!("strip-MLS_BSMPM-{cells}.csv"));
+    let strip = parameters("mls-paper-code").unwrap().placed(cells);
+    let (dt, steps) = strip.code_time_steps(cells);
+    let (cells, dt, steps) = (cells.to_string(), dt.to_string(), steps.to_string());
     hompm::cli::run([
         "check",
         "manufactured-strip",
@@ -143,13 +149,13 @@ fn check(mapping: &str) -> hompm::cli::Output {
         "--scheme",
         "usl",
         "--cells",
-        "8",
+        &cells,
         "--ppc",
         "5",
         "--dt",
-        "5e-4",
+        &dt,
         "--steps",
-        "41",
+        &steps,
         "--input",
         &input,
     ])
@@ -157,15 +163,23 @@ fn check(mapping: &str) -> hompm::cli::Output {
 }
 
 #[test]
-fn the_mls_paper_code_s_mls_bsmpm_file_agrees_with_its_own_weights_and_differs_with_the_fix() {
-    let out = check("mls-code-weights");
-    assert!(out.stdout.starts_with("agrees"), "{}", out.stdout);
-    assert!(
-        out.stdout.contains("in u, v, stress, x0, x"),
-        "{}",
-        out.stdout
-    );
-    let out = check("mls");
+fn the_mls_paper_code_s_mls_bsmpm_files_agree_with_its_own_weights_and_differ_with_the_fix() {
+    // 8 and 16 cells (the code's files; 32 and 64 differ by rounding the
+    // uncentred fit amplifies, docs/reproduction-notes.md). At 16 cells
+    // the agreement needs the code's arithmetic: its Gauss points, its
+    // Cholesky order and its position update (with a Cholesky that divides
+    // by the pivots and hompm's own Gauss points it was 1.5 times the
+    // tolerance).
+    for cells in [8, 16] {
+        let out = check("mls-code-weights", cells);
+        assert!(out.stdout.starts_with("agrees"), "{cells}: {}", out.stdout);
+        assert!(
+            out.stdout.contains("in u, v, stress, x0, x"),
+            "{}",
+            out.stdout
+        );
+    }
+    let out = check("mls", 8);
     assert!(out.stdout.starts_with("differs"), "{}", out.stdout);
 }
 
