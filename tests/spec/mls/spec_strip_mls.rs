@@ -26,6 +26,8 @@ const HAND_FIT: [f64; 4] = [
     -79811.0 / 1687854.0,
 ];
 
+/// Map rows: mls-10, mls-14 — the shape functions of Eq. (14) are computed
+/// from the moment matrix of Eq. (10), so one hand fit checks both.
 #[test]
 fn the_code_s_mls_is_a_quadratic_fit_weighted_at_the_cell_size_over_one_cell() {
     let points = [0.1, 0.3, 0.6, 0.9];
