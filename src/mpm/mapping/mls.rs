@@ -102,6 +102,8 @@ pub struct MlsWorkspace {
     shape: Vec<f64>,
     /// Two fields at the Gauss points.
     fields: (Vec<f64>, Vec<f64>),
+    /// One cell's shape functions at one Gauss point.
+    cell_shapes: Vec<f64>,
     /// The factor of the forces' weights: h/2 (the code's second Gauss
     /// direction) or 1.
     force_factor: f64,
@@ -125,6 +127,7 @@ impl MlsWorkspace {
             first_point: Vec::with_capacity(particles),
             shape: Vec::with_capacity(MLS_STRIP_GAUSS_POINTS * particles),
             fields: (Vec::new(), Vec::new()),
+            cell_shapes: Vec::new(),
             force_factor: match weights {
                 MlsWeights::Code => 0.5 * grid.cell_size(),
                 MlsWeights::Consistent => 1.0,
@@ -318,26 +321,22 @@ impl Reconstruction1d for MlsWorkspace {
         self.shape.resize(MLS_STRIP_GAUSS_POINTS * x.len(), 0.0);
         self.largest_condition = 0.0;
         let h = grid.cell_size();
-        let mut local = [0.0; 64];
         for e in 0..grid.num_cells() {
             let members = self.bins.points_of(e);
             if members.is_empty() {
                 continue;
             }
-            if members.len() > local.len() {
-                return Err(Error::InvalidArgument(format!(
-                    "the code's MLS takes at most {} particles per cell, cell {e} holds {}",
-                    local.len(),
-                    members.len()
-                )));
-            }
-            for g in 0..MLS_STRIP_GAUSS_POINTS {
-                let point = self.code_gauss_point(grid, e, g);
+            let points: [QuadraturePoint; MLS_STRIP_GAUSS_POINTS] =
+                std::array::from_fn(|g| self.code_gauss_point(grid, e, g));
+            let local = &mut self.cell_shapes;
+            local.clear();
+            local.resize(members.len(), 0.0);
+            for (g, point) in points.into_iter().enumerate() {
                 let first = self.quadrature.points.len() - g;
                 let positions = members.iter().map(|&k| x[k]);
-                let kappa = cell_shape_functions(point.x, positions, h, 0.0, &mut local)?;
+                let kappa = cell_shape_functions(point.x, positions, h, 0.0, local)?;
                 self.largest_condition = self.largest_condition.max(kappa);
-                for (&k, &s) in members.iter().zip(&local) {
+                for (&k, &s) in members.iter().zip(local.iter()) {
                     self.first_point[k] = first;
                     self.shape[MLS_STRIP_GAUSS_POINTS * k + g] = s;
                 }
