@@ -202,7 +202,9 @@ impl MlsWorkspace {
 /// spans the same polynomials and gives the same N_p but for rounding,
 /// which grows with κ(A). Returns κ₂(A); a moment matrix that is not
 /// positive definite, or whose κ exceeds [`MLS_MAX_CONDITION`], is
-/// [`Error::SingularMoments`].
+/// [`Error::SingularMoments`]; a non-finite position or centre, a cell
+/// size that is not positive, or a `shape` of another length than the
+/// points is an error too.
 pub fn cell_shape_functions(
     x_gauss: f64,
     points: impl Iterator<Item = f64> + Clone,
@@ -210,6 +212,24 @@ pub fn cell_shape_functions(
     centre: f64,
     shape: &mut [f64],
 ) -> Result<f64> {
+    crate::error::finite("Gauss point", x_gauss)?;
+    crate::error::finite("centre", centre)?;
+    if !(cell_size > 0.0 && cell_size.is_finite()) {
+        return Err(Error::InvalidArgument(format!(
+            "the MLS cell size must be positive and finite, got {cell_size}"
+        )));
+    }
+    let count = points.clone().count();
+    if count != shape.len() {
+        return Err(Error::LengthMismatch {
+            what: "MLS shape functions (one per point)".into(),
+            expected: count,
+            got: shape.len(),
+        });
+    }
+    for xp in points.clone() {
+        crate::error::finite("particle position", xp)?;
+    }
     let weight = |xp: f64| quadratic_spline_weight((x_gauss - xp) / cell_size);
     let basis = |x: f64| {
         let d = x - centre;
@@ -241,7 +261,8 @@ pub fn cell_shape_functions(
 }
 
 /// A r = b for the symmetric positive definite 3×3 moment matrix, in the
-/// order of operations of the code's `rc = Ac{cpid,g} \ pc` (line 238)
+/// order of operations of the code's `rc = Ac{cpid,g} \ pc`
+/// (`MLS_BSMPM_solvertest1.m:238`)
 /// under Octave with OpenBLAS: Octave factors a symmetric matrix with a
 /// positive diagonal by Cholesky, A = UᵀU (LAPACK `dpotrf`, whose
 /// unblocked `dpotf2` scales row j of U by the reciprocal 1/u_jj), and

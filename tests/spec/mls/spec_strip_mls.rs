@@ -61,6 +61,29 @@ fn the_code_s_mls_is_a_quadratic_fit_weighted_at_the_cell_size_over_one_cell() {
 }
 
 #[test]
+fn the_code_s_mls_fit_refuses_what_it_cannot_fit_with_an_error_not_a_nan() {
+    let mut two = [0.0; 2];
+    // Two particles cannot fix three coefficients: A is singular.
+    let e = cell_shape_functions(0.5, [0.2, 0.8].into_iter(), 1.0, 0.0, &mut two).unwrap_err();
+    assert!(e.to_string().contains("moment"), "{e}");
+    let three = [0.1, 0.5, 0.9];
+    let mut out = [0.0; 3];
+    for (x, h) in [
+        (f64::NAN, 1.0),
+        (0.5, 0.0),
+        (0.5, -1.0),
+        (0.5, f64::INFINITY),
+    ] {
+        assert!(cell_shape_functions(x, three.into_iter(), h, 0.0, &mut out).is_err());
+    }
+    let mut short = [0.0; 2];
+    assert!(cell_shape_functions(0.5, three.into_iter(), 1.0, 0.0, &mut short).is_err());
+    assert!(
+        cell_shape_functions(0.5, [0.1, f64::NAN, 0.9].into_iter(), 1.0, 0.0, &mut out).is_err()
+    );
+}
+
+#[test]
 fn the_code_s_uncentred_mls_is_the_centred_one_but_for_rounding_that_grows_with_kappa() {
     // The code's basis is [1, x, x²] in global coordinates. Centred at the
     // Gauss point it spans the same polynomials, so the shape functions
