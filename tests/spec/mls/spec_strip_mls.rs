@@ -191,10 +191,9 @@ fn check(mapping: &str, cells: usize) -> hompm::cli::Output {
 fn the_mls_paper_code_s_mls_bsmpm_files_agree_with_its_own_weights_and_differ_with_the_fix() {
     // 8 and 16 cells (the code's files; 32 and 64 differ by rounding the
     // uncentred fit amplifies, docs/reproduction-notes.md). At 16 cells
-    // the agreement needs the code's arithmetic: its Gauss points, its
-    // Cholesky order and its position update (with a Cholesky that divides
-    // by the pivots and hompm's own Gauss points it was 1.5 times the
-    // tolerance).
+    // the agreement needs the code's order of the Cholesky solve
+    // (`solve_as_lapack`): with a Cholesky that divides by the pivots it was
+    // 1.5 times the tolerance.
     for cells in [8, 16] {
         let out = check("mls-code-weights", cells);
         assert!(out.stdout.starts_with("agrees"), "{cells}: {}", out.stdout);
