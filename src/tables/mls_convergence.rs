@@ -20,7 +20,7 @@
 //! Items: [`table`], [`rows`], [`notes`], [`row_label`], [`ROW_TIMES`],
 //! [`column_labels`].
 
-use super::{Computed, LabelledRow, RunOptions, TableSpec};
+use super::{Computed, LabelledRow, RunOptions, Study, TableSpec};
 use crate::error::Result;
 use crate::scenes::aligned_vibration::{parameters, AlignedErrors};
 use crate::studies::mls_convergence::{
@@ -78,7 +78,7 @@ fn compute(o: &RunOptions) -> Result<Computed> {
     Ok(Computed {
         rows: rows(&study)?,
         notes: notes(&study),
-        study: None,
+        study: Some(Study::MlsConvergence(Box::new(study))),
     })
 }
 

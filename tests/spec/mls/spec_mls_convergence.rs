@@ -156,3 +156,67 @@ fn the_largest_stable_time_step_reaches_the_end_and_the_next_one_tried_stops() {
     assert_eq!(unstable.stop, limit.stop);
     assert!(unstable.stop.is_some());
 }
+
+/// The report's charts of the study (issue #38, deliverables 3 and 4):
+/// the convergence and work-precision charts draw one line per
+/// combination, and the stability chart one point per combination with a
+/// stable Δt and a footnote naming where each stops.
+#[test]
+fn the_study_s_charts_show_every_combination_and_name_every_stop() {
+    use hompm::report::convention_charts;
+    use hompm::studies::mls_convergence::{StabilityLimit, Stop};
+    let mut study = tiny().clone();
+    study.options.stability = Some(StabilityOptions {
+        cells: 16,
+        end_time: 0.02,
+        smallest_dt: 1e-5,
+        largest_dt: 3e-3,
+        bisections: 3,
+    });
+    // Limits made up for the chart: the first combination stops at
+    // 2e-4 s, the others never up to the scan's largest Δt.
+    study.stability = (0..study.combinations.len())
+        .map(|c| StabilityLimit {
+            combination: c,
+            largest_stable: Some(1e-4 * (1.0 + c as f64)),
+            smallest_unstable: (c == 0).then_some(2e-4),
+            stop: (c == 0).then(|| Stop {
+                step: 17,
+                time: 17.0 * 2e-4,
+                cause: "det F <= 0 at particle 3".into(),
+            }),
+            trials: 5,
+        })
+        .collect();
+    let spec = tables::find("mls-convergence-study").unwrap();
+    let published = Published::parse(spec.id, spec.published_json).unwrap();
+    let report = tables::compare(
+        &spec,
+        &published,
+        Computed {
+            rows: mls_convergence::rows(&study).unwrap(),
+            notes: vec![],
+            study: Some(tables::Study::MlsConvergence(Box::new(study.clone()))),
+        },
+    )
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("hompm-convention-charts-{}", std::process::id()));
+    convention_charts(&dir, &[report]).unwrap();
+    let svg = |stem: &str| std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
+    // The tiny study records only its end (one period), which is where the
+    // charts read the errors.
+    for stem in ["convention_convergence", "convention_work_precision"] {
+        let text = svg(stem);
+        for c in &study.combinations {
+            let escaped = c.label.replace('&', "&amp;");
+            assert!(text.contains(&escaped), "{stem}: {}", c.label);
+        }
+    }
+    let stability = svg("convention_stability");
+    assert!(stability.contains("stops at Δt = 2.000e-4 s (step 17: det F &lt;= 0 at particle 3)"));
+    assert_eq!(
+        stability.matches("no stop up to Δt = 3.0e-3 s").count(),
+        study.combinations.len() - 1
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
