@@ -4,10 +4,11 @@
 //! combination runs the step its flags name on the command line.
 
 use hompm::cli;
-use hompm::scenes::aligned_vibration::{parameters, AlignedErrors};
+use hompm::mpm2d::Mapping2d;
+use hompm::scenes::aligned_vibration::{parameters, AlignedErrors, AlignedMethod};
 use hompm::studies::mls_convergence::{
-    combinations, convention_study, largest_stable_dt, run_combination, ConventionStudy,
-    ConventionStudyOptions, StabilityOptions, BSMPM, REFERENCE, TAICHI,
+    combinations, convention_study, largest_stable_dt, run_combination, ConventionRun,
+    ConventionStudy, ConventionStudyOptions, StabilityOptions, BSMPM, REFERENCE, TAICHI,
 };
 use hompm::tables::{self, mls_convergence, Computed, Published};
 use std::sync::OnceLock;
@@ -28,6 +29,28 @@ fn tiny() -> &'static ConventionStudy {
         })
         .unwrap()
     })
+}
+
+/// Whether both runs reached one period; every combination with the
+/// direct mapping must (the tiny study is far inside their stability
+/// limits), a reconstruction may stop on these coarse 4-PPC grids (MLS: a
+/// singular moment matrix; conservative TLS: det F <= 0).
+fn reached_one_period(method: AlignedMethod, a: &ConventionRun, b: &ConventionRun) -> bool {
+    let reached = a.early.is_some() && b.early.is_some();
+    let direct = !matches!(
+        method,
+        AlignedMethod::Bsmpm {
+            mapping: Mapping2d::Mls | Mapping2d::Tls,
+            ..
+        }
+    );
+    assert!(
+        reached || !direct,
+        "{method:?} stopped: {:?} {:?}",
+        a.stop,
+        b.stop
+    );
+    reached
 }
 
 fn triple(e: AlignedErrors) -> [f64; 3] {
@@ -67,8 +90,24 @@ fn the_attribution_table_has_every_combination_after_one_period_with_errors_at_8
             assert!(report.computed[k].iter().all(Option::is_none), "{later}");
         }
         let row = &report.computed[r];
-        let e8 = triple(study.run(c.label, 8).unwrap().early.unwrap());
-        let e16 = triple(study.run(c.label, 16).unwrap().early.unwrap());
+        let (run8, run16) = (
+            study.run(c.label, 8).unwrap(),
+            study.run(c.label, 16).unwrap(),
+        );
+        if !reached_one_period(c.method, run8, run16) {
+            // A reconstruction that stopped: its stop is named, and its
+            // row has nothing after it.
+            for run in [run8, run16].into_iter().filter(|r| r.early.is_none()) {
+                assert!(run.stop.is_some(), "{}", c.label);
+                let cells = run.cells;
+                assert!(["u", "v", "σ"]
+                    .iter()
+                    .all(|q| row[col(&format!("{q} {cells}"))].is_none()));
+            }
+            continue;
+        }
+        let e8 = triple(run8.early.unwrap());
+        let e16 = triple(run16.early.unwrap());
         for (q, name) in ["u", "v", "σ"].iter().enumerate() {
             assert_eq!(row[col(&format!("{name} 8"))], Some(e8[q]), "{}", c.label);
             assert_eq!(row[col(&format!("{name} 16"))], Some(e16[q]), "{}", c.label);
@@ -92,6 +131,10 @@ fn every_combination_changes_the_errors_so_no_switched_convention_is_silently_ig
     assert_eq!(all[0].label, BSMPM);
     assert!(all.iter().any(|c| c.label == TAICHI));
     assert!(all.iter().any(|c| c.label == REFERENCE));
+    let all: Vec<_> = all
+        .into_iter()
+        .filter(|c| study.run(c.label, 16).unwrap().early.is_some())
+        .collect();
     let errors: Vec<[f64; 3]> = all
         .iter()
         .map(|c| triple(study.run(c.label, 16).unwrap().early.unwrap()))
