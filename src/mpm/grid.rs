@@ -465,33 +465,37 @@ impl Grid {
         }
     }
 
-    /// Fills `stencils` with the basis at every point of `xs` (one
-    /// [`Grid::evaluate`] per point).
-    pub fn fill_stencils(
+    /// Fills `stencils` with the basis at `coordinate(point)` for every
+    /// point of `points` (one [`Grid::evaluate`] per point): the 1D step's
+    /// particles (`coordinate` the identity) or one axis of the 2D
+    /// particles' positions `[x, y]` (the tensor product's basis along that
+    /// axis, MLS paper Eqs. 4–5).
+    pub fn fill_stencils<P>(
         &self,
-        xs: &[f64],
+        points: &[P],
+        coordinate: impl Fn(&P) -> f64 + Copy,
         stencils: &mut Stencils,
         scratch: &mut SpanScratch,
     ) -> Result<()> {
-        stencils.resize(xs.len());
+        stencils.resize(points.len());
         if let (GridBasis::BSpline(kv), None) = (&self.basis, &self.dual) {
             // The step's hot path: the degree is dispatched once per batch,
             // and each point's triangle is evaluated in registers.
             return with_width!(
                 stencils.width(),
-                fill_bspline_stencils::<W>(kv, xs, stencils, scratch)
+                fill_bspline_stencils::<W>(kv, points.iter().map(coordinate), stencils, scratch)
             );
         }
         if let (GridBasis::Lagrange(l), None) = (&self.basis, &self.dual) {
-            for (k, &x) in xs.iter().enumerate() {
+            for (k, point) in points.iter().enumerate() {
                 let (v, g) = stencils.slots_mut(k);
-                stencils.first[k] = l.evaluate_into(x, v, g)?;
+                stencils.first[k] = l.evaluate_into(coordinate(point), v, g)?;
             }
             return Ok(());
         }
-        for (k, &x) in xs.iter().enumerate() {
+        for (k, point) in points.iter().enumerate() {
             let (v, g) = stencils.slots_mut(k);
-            let first = self.evaluate(x, scratch, v, g)?;
+            let first = self.evaluate(coordinate(point), scratch, v, g)?;
             stencils.first[k] = first;
         }
         Ok(())
@@ -500,7 +504,7 @@ impl Grid {
     /// The basis at every point of `xs`, in freshly allocated stencils.
     pub fn stencils_at(&self, xs: &[f64]) -> Result<Stencils> {
         let mut s = self.stencils(xs.len());
-        self.fill_stencils(xs, &mut s, &mut SpanScratch::default())?;
+        self.fill_stencils(xs, |&x| x, &mut s, &mut SpanScratch::default())?;
         Ok(s)
     }
 
@@ -520,12 +524,12 @@ impl Grid {
 /// same numbers as [`Grid::evaluate`].
 fn fill_bspline_stencils<const W: usize>(
     kv: &KnotVector,
-    xs: &[f64],
+    xs: impl Iterator<Item = f64>,
     stencils: &mut Stencils,
     scratch: &mut SpanScratch,
 ) -> Result<()> {
     if W == 0 {
-        for (k, &x) in xs.iter().enumerate() {
+        for (k, x) in xs.enumerate() {
             let (v, g) = stencils.slots_mut(k);
             stencils.first[k] = kv.values_and_gradients_into(x, scratch, v, g)?;
         }
@@ -539,7 +543,7 @@ fn fill_bspline_stencils<const W: usize>(
     } = stencils;
     let rows = values.as_chunks_mut::<W>().0.iter_mut();
     let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
-    for ((&x, f), (v, g)) in xs.iter().zip(first.iter_mut()).zip(rows) {
+    for ((x, f), (v, g)) in xs.zip(first.iter_mut()).zip(rows) {
         *f = kv.values_and_gradients_fixed::<W>(x, v, g)?;
     }
     Ok(())

@@ -106,7 +106,11 @@ impl std::fmt::Display for Warning {
     }
 }
 
-/// What the monitor reads of a run after each step, in 1D or in 2D.
+/// What the monitor reads of a run after each step, in 1D or in 2D. Its
+/// `steps_done` and `time` are also the one name of the step counter and
+/// the clock that the trace and the command line read in both dimensions,
+/// whatever field holds them (1D: `diagnostics.steps`, part of the run's
+/// JSON record; 2D: `steps`).
 pub trait Watched {
     /// Steps taken so far.
     fn steps_done(&self) -> usize;

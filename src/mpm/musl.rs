@@ -286,7 +286,7 @@ impl Simulation {
             ws.breaks_before.resize(p.len(), 0);
             ws.counted_at.resize(p.len(), f64::NAN);
         }
-        grid.fill_stencils(&p.x, &mut ws.stencils, &mut ws.scratch)?;
+        grid.fill_stencils(&p.x, |&x| x, &mut ws.stencils, &mut ws.scratch)?;
         for k in 0..p.len() {
             if ws.counted_at[k] != p.x[k] {
                 ws.breaks_before[k] = grid.breaks_at_or_below(p.x[k]);

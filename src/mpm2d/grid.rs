@@ -101,6 +101,7 @@ impl Grid2d {
         let mut gauss_stencils = axis.stencils(gauss_abscissae.len());
         axis.fill_stencils(
             &gauss_abscissae,
+            |&x| x,
             &mut gauss_stencils,
             &mut SpanScratch::default(),
         )?;
@@ -132,8 +133,9 @@ impl Grid2d {
         self.length
     }
 
-    /// Cells per direction.
-    pub fn cells(&self) -> usize {
+    /// Cells per direction (the 1D grid's `num_cells` along one axis; its
+    /// `cells()` are the cells' intervals).
+    pub fn cells_per_side(&self) -> usize {
         self.cells
     }
 
@@ -189,8 +191,9 @@ impl Grid2d {
         }
     }
 
-    /// n_x · n_y.
-    pub fn num_nodes(&self) -> usize {
+    /// n_x · n_y, the functions of the tensor-product basis (the MLS
+    /// paper's nodes; the 1D grid's `num_dofs`).
+    pub fn num_dofs(&self) -> usize {
         self.nodes_per_side() * self.nodes_per_side()
     }
 

@@ -118,7 +118,7 @@ impl MlsShapes {
     }
 
     /// φ_gp for every Gauss point g and particle p in its support (MLS paper
-    /// Eq. 14), from the particles' positions `x`, `y` and cells `cell_x`,
+    /// Eq. 14), from the particles' positions `x` and cells `cell_x`,
     /// `cell_y`. Errors for a singular moment matrix.
     ///
     /// The four Gauss points of a cell share one gathering of candidates
@@ -129,8 +129,7 @@ impl MlsShapes {
     pub fn evaluate(
         &mut self,
         gauss: &GaussGrid,
-        x: &[f64],
-        y: &[f64],
+        x: &[[f64; 2]],
         cell_x: &[usize],
         cell_y: &[usize],
     ) -> Result<()> {
@@ -142,7 +141,7 @@ impl MlsShapes {
         let n = 2 * cells;
         for cy in 0..cells {
             for cx in 0..cells {
-                self.gather(gauss, [cx, cy], x, y);
+                self.gather(gauss, [cx, cy], x);
                 for (j, gy) in [2 * cy, 2 * cy + 1].into_iter().enumerate() {
                     for (i, gx) in [2 * cx, 2 * cx + 1].into_iter().enumerate() {
                         let g = gx + n * gy;
@@ -159,7 +158,7 @@ impl MlsShapes {
 
     /// Collects, for the four Gauss points of cell (cx, cy), the particles
     /// with w > 0: `local[q]` holds (particle, w, offset) of point q = 2j + i.
-    fn gather(&mut self, gauss: &GaussGrid, cell: [usize; 2], x: &[f64], y: &[f64]) {
+    fn gather(&mut self, gauss: &GaussGrid, cell: [usize; 2], x: &[[f64; 2]]) {
         let (h, cells) = (gauss.cell_size, gauss.cells);
         let scale = 1.0 / (self.support_scale * h);
         let reach = 1.5 * self.support_scale * h;
@@ -193,7 +192,7 @@ impl MlsShapes {
             for &k in &self.bin_particles
                 [self.bin_start[row + xr.start()]..self.bin_start[row + xr.end() + 1]]
             {
-                let (px, py) = (x[k as usize], y[k as usize]);
+                let [px, py] = x[k as usize];
                 let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
                 let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
                 let wx = dx.map(quadratic_spline_weight);
@@ -266,7 +265,7 @@ impl GaussReconstruction for MlsShapes {
         cell_x: &[usize],
         cell_y: &[usize],
     ) -> Result<()> {
-        MlsShapes::evaluate(self, gauss, &particles.x, &particles.y, cell_x, cell_y)
+        MlsShapes::evaluate(self, gauss, &particles.x, cell_x, cell_y)
     }
 
     fn lists(&self) -> ShapeLists<'_> {

@@ -1,8 +1,8 @@
 //! # Material points in 2D
 //!
 //! The particle state of the MLS paper's algorithm (Eqs. 18–37), as a struct
-//! of arrays: current position (x and y in separate arrays, because the
-//! basis is a tensor product and each axis is evaluated on its own), initial
+//! of arrays in the 1D step's names (`x`, `x0`, `velocity`, …), each 2D
+//! vector as `[f64; 2]`: current position x_p, initial
 //! position X_p, displacement, velocity, deformation gradient F_p, Cauchy
 //! stress σ_p, volume V_p, initial volume V_p⁰, density ρ_p and the fixed
 //! mass m_p = ρ_p⁰ V_p⁰.
@@ -15,10 +15,9 @@ use nalgebra::Matrix2;
 /// Particles in the plane, struct of arrays.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Particles2d {
-    /// Current x coordinates.
-    pub x: Vec<f64>,
-    /// Current y coordinates.
-    pub y: Vec<f64>,
+    /// Current positions x_p = [x, y] (the 1D step's `x`; the tensor
+    /// product's basis reads one axis at a time, `Grid::fill_stencils`).
+    pub x: Vec<[f64; 2]>,
     /// Initial positions X_p.
     pub x0: Vec<[f64; 2]>,
     /// Displacements u_p = x_p − X_p.
@@ -83,8 +82,7 @@ impl Particles2d {
             }
         }
         Ok(Self {
-            x: positions.iter().map(|p| p[0]).collect(),
-            y: positions.iter().map(|p| p[1]).collect(),
+            x: positions.clone(),
             x0: positions,
             displacement: vec![[0.0; 2]; n],
             velocity,

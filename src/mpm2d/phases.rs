@@ -52,12 +52,12 @@ pub fn evaluate_basis(
     step: usize,
 ) -> Result<()> {
     let axis = grid.axis();
-    for (coords, stencils) in [(&p.x, &mut ws.stencils_x), (&p.y, &mut ws.stencils_y)] {
-        if let Err(e) = axis.fill_stencils(coords, stencils, &mut ws.scratch) {
-            let k = coords
-                .iter()
-                .position(|&c| !(c >= 0.0 && c <= grid.length()))
-                .unwrap_or(0);
+    for (c, stencils) in [(0, &mut ws.stencils_x), (1, &mut ws.stencils_y)] {
+        if let Err(e) = axis.fill_stencils(&p.x, |x| x[c], stencils, &mut ws.scratch) {
+            let k =
+                p.x.iter()
+                    .position(|x| !(x[c] >= 0.0 && x[c] <= grid.length()))
+                    .unwrap_or(0);
             return Err(match e {
                 Error::OutsideDomain { x, a, b } => Error::ParticleLeftGrid {
                     particle: k,
@@ -80,12 +80,9 @@ pub(super) fn evaluate_basis_at_reference(
     p: &Particles2d,
     ws: &mut StepWorkspace2d,
 ) -> Result<()> {
-    let xs: Vec<f64> = p.x0.iter().map(|x| x[0]).collect();
-    let ys: Vec<f64> = p.x0.iter().map(|x| x[1]).collect();
-    grid.axis()
-        .fill_stencils(&xs, &mut ws.stencils_x, &mut ws.scratch)?;
-    grid.axis()
-        .fill_stencils(&ys, &mut ws.stencils_y, &mut ws.scratch)
+    let axis = grid.axis();
+    axis.fill_stencils(&p.x0, |x| x[0], &mut ws.stencils_x, &mut ws.scratch)?;
+    axis.fill_stencils(&p.x0, |x| x[1], &mut ws.stencils_y, &mut ws.scratch)
 }
 
 /// The tensor-product stencil of one point, MLS paper Eqs. (4)–(5): from
@@ -233,13 +230,13 @@ fn map_reconstructed_with(
 ) -> Result<()> {
     let gauss = GaussGrid {
         abscissae: grid.gauss_abscissae(),
-        cells: grid.cells(),
+        cells: grid.cells_per_side(),
         cell_size: grid.cell_size(),
     };
     shapes.evaluate(&gauss, p, &ws.stencils_x.first, &ws.stencils_y.first)?;
     let lists = shapes.lists();
     let omega = grid.gauss_weight();
-    let ng = 2 * grid.cells();
+    let ng = 2 * grid.cells_per_side();
     // The eight particle values of Eqs. (18)–(21), packed so that each
     // (Gauss point, particle) pair reads one record.
     for (k, d) in ws.particle_values.iter_mut().enumerate() {
@@ -255,7 +252,7 @@ fn map_reconstructed_with(
             s[(0, 1)],
         ];
     }
-    for (gx, gy) in storage_order(grid.cells()) {
+    for (gx, gy) in storage_order(grid.cells_per_side()) {
         let g = gx + ng * gy;
         let mut q = [0.0; 8];
         for e in lists.start[g]..lists.end[g] {
@@ -407,9 +404,9 @@ fn update_particles_with<const W: usize>(
         });
         p.velocity[k][0] += dt * a[0];
         p.velocity[k][1] += dt * a[1];
-        p.x[k] += dt * v[0];
-        p.y[k] += dt * v[1];
-        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+        p.x[k][0] += dt * v[0];
+        p.x[k][1] += dt * v[1];
+        p.displacement[k] = [p.x[k][0] - p.x0[k][0], p.x[k][1] - p.x0[k][1]];
     }
 }
 
@@ -430,9 +427,9 @@ pub fn end_of_step_velocity(
         (true, Some(shapes)) => {
             let lists = shapes.lists();
             let s = grid.gauss_stencils();
-            let ng = 2 * grid.cells();
+            let ng = 2 * grid.cells_per_side();
             let omega = grid.gauss_weight();
-            for (gx, gy) in storage_order(grid.cells()) {
+            for (gx, gy) in storage_order(grid.cells_per_side()) {
                 let g = gx + ng * gy;
                 let mut q = [0.0; 2];
                 for e in lists.start[g]..lists.end[g] {

@@ -183,7 +183,7 @@ impl Simulation2d {
         body_force: Option<Box<dyn BodyForce2d>>,
     ) -> Result<Self> {
         let n = particles.len();
-        let nodes = grid.num_nodes();
+        let nodes = grid.num_dofs();
         if settings.formulation == Formulation::TotalLagrangian
             && settings.mapping != Mapping2d::Direct
         {
@@ -199,7 +199,7 @@ impl Simulation2d {
         let reconstruction =
             settings
                 .mapping
-                .reconstruction(settings.mls_support, grid.cells(), n)?;
+                .reconstruction(settings.mls_support, grid.cells_per_side(), n)?;
         let node_positions = match settings.conventions.body_force {
             BodyForceAt::Nodes => grid.node_positions(),
             BodyForceAt::Particles => Vec::new(),
@@ -231,7 +231,7 @@ impl Simulation2d {
                 Vec::new()
             },
             gauss_values: if reconstruction.is_some() {
-                vec![[0.0; 8]; 4 * grid.cells() * grid.cells()]
+                vec![[0.0; 8]; 4 * grid.cells_per_side() * grid.cells_per_side()]
             } else {
                 Vec::new()
             },

@@ -386,11 +386,8 @@ impl GaussReconstruction for TlsShapes {
                 let basis = TaylorBasis2d::new(lower, [lower[0] + h, lower[1] + h])?;
                 let members = self.bins.points_of(cx + cells * cy);
                 self.rows.clear();
-                self.rows.extend(
-                    members
-                        .iter()
-                        .map(|&k| basis.evaluate([particles.x[k], particles.y[k]])),
-                );
+                self.rows
+                    .extend(members.iter().map(|&k| basis.evaluate(particles.x[k])));
                 let points = [(0, 0), (1, 0), (0, 1), (1, 1)]
                     .map(|(i, j)| [gauss.abscissae[2 * cx + i], gauss.abscissae[2 * cy + j]]);
                 let solution = if members.is_empty() {

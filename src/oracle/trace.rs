@@ -26,6 +26,7 @@ pub use super::equations::{equation, Equation, IndexKind, EQUATIONS_1D, EQUATION
 use super::setup::{Setup1d, Setup2d};
 use crate::error::Result;
 use crate::mpm::conventions::Positions;
+use crate::mpm::monitor::Watched;
 use crate::mpm::musl::{Constitutive, Simulation, StepObserver, StepPoint};
 use crate::mpm2d::step::{Simulation2d, StepObserver2d, StepPoint2d};
 use serde::{Deserialize, Serialize};
@@ -193,7 +194,7 @@ impl TraceObserver {
 impl StepObserver for TraceObserver {
     fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> Result<()> {
         if point == StepPoint::MassAndLoads {
-            self.recorder.begin(sim.diagnostics.steps + 1);
+            self.recorder.begin(sim.steps_done() + 1);
         }
         if !self.recorder.recording() {
             return Ok(());
@@ -292,7 +293,7 @@ pub struct TraceObserver2d {
 
 /// x_p and u_p (MLS paper Eq. 30) into the trace.
 fn put_positions(r: &mut Recorder, p: &crate::mpm2d::Particles2d) {
-    let x: Vec<f64> = p.x.iter().zip(&p.y).flat_map(|(x, y)| [*x, *y]).collect();
+    let x: Vec<f64> = p.x.iter().flatten().copied().collect();
     r.put("mls-30", x);
     r.put("mls-30-u", flat2(&p.displacement));
 }
@@ -311,7 +312,7 @@ impl StepObserver2d for TraceObserver2d {
     fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> Result<()> {
         let r = &mut self.recorder;
         if point == StepPoint2d::GridMapping {
-            r.begin(sim.steps + 1);
+            r.begin(sim.steps_done() + 1);
         }
         if !r.recording() {
             return Ok(());

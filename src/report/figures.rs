@@ -349,5 +349,6 @@ pub fn write_charts(dir: &Path, reports: &[TableReport], studies: &ReportStudies
     solver_time_chart(dir, &studies.solver_degrees, &studies.solvers)?;
     stability_chart(dir, &studies.stability, &studies.failures)?;
     speed_chart(dir, &studies.speed)?;
-    super::mls_figures::mls_charts(dir, reports)
+    super::mls_figures::mls_charts(dir, reports)?;
+    super::convention_figures::convention_charts(dir, reports)
 }

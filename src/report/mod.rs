@@ -12,7 +12,7 @@
 //! The module is split the way the data flow: this file holds the schema
 //! ([`ReportJson`]) and [`build`], which assembles it and writes the files;
 //! `baseline` the regression baseline by label; `markdown` the markdown of
-//! report.md and docs/reproduction.md; `figures` and `mls_figures` one function per
+//! report.md and docs/reproduction.md; `figures`, `mls_figures` and `convention_figures` one function per
 //! chart over [`charts`]. Their public functions are re-exported here
 //! (`report::baseline_of`, `report::table_markdown`, `report::write_charts`
 //! and the other chart functions).
@@ -23,16 +23,18 @@
 //!
 //! Items: [`Unimplemented`], [`unimplemented()`], [`ReportJson`],
 //! [`write_file`], [`ReproduceOptions`], [`studies_json`], [`build`],
-//! [`causes`], [`charts`].
+//! [`causes`], [`charts`] (and re-exported [`convention_charts`], [`mls_charts`]).
 
 mod baseline;
 pub mod causes;
 pub mod charts;
+mod convention_figures;
 mod figures;
 mod markdown;
 mod mls_figures;
 
 pub use baseline::{baseline_of, regressions, Baseline};
+pub use convention_figures::convention_charts;
 pub use figures::{
     convergence_charts, solver_table_charts, solver_time_chart, speed_chart, stability_chart,
     work_precision_chart, write_charts,
@@ -184,7 +186,7 @@ pub fn build(
         if options.quick { ", quick mode: reduced sizes" } else { "" }
     );
     if options.only.is_empty() {
-        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n![MLS paper: displacement](charts/mls_convergence_displacement.svg)\n![MLS paper: velocity](charts/mls_convergence_velocity.svg)\n![MLS paper: stress](charts/mls_convergence_stress.svg)\n![MLS paper: error against time](charts/mls_error_history.svg)\n![MLS paper: work-precision](charts/mls_work_precision.svg)\n![MLS and TLS: mapping errors](charts/mls_conservation.svg)\n\n");
+        md.push_str("## Charts\n\n![work-precision](charts/work_precision.svg)\n![speed](charts/speed.svg)\n\n![convergence of displacement](charts/convergence_displacement.svg)\n![convergence of velocity](charts/convergence_velocity.svg)\n![convergence of stress](charts/convergence_stress.svg)\n\n![CG iterations](charts/solver_cg_iterations.svg)\n![V-cycles](charts/solver_pmg_cycles.svg)\n![solver time](charts/solver_time.svg)\n\n![stability map](charts/stability_map.svg)\n\n![MLS paper: displacement](charts/mls_convergence_displacement.svg)\n![MLS paper: velocity](charts/mls_convergence_velocity.svg)\n![MLS paper: stress](charts/mls_convergence_stress.svg)\n![MLS paper: error against time](charts/mls_error_history.svg)\n![MLS paper: work-precision](charts/mls_work_precision.svg)\n![MLS and TLS: mapping errors](charts/mls_conservation.svg)\n\n![Other codes' conventions: convergence](charts/convention_convergence.svg)\n![Other codes' conventions: work-precision](charts/convention_work_precision.svg)\n![Other codes' conventions: stability](charts/convention_stability.svg)\n\n");
     }
     for r in &report.tables {
         md.push_str(&table_markdown(r, chart_of(&r.id)));

@@ -26,178 +26,24 @@
 //! put back in input order, so the numbers do not depend on the scheduling
 //! (the wall times do).
 //!
-//! Items: [`Combination`], [`combinations`], [`BSMPM`], [`TAICHI`], [`REFERENCE`],
+//! The combinations themselves are in the child module `combinations`
+//! (re-exported here).
+//!
+//! Items: [`Combination`], [`combinations()`], [`BSMPM`], [`TAICHI`], [`REFERENCE`],
 //! [`StabilityOptions`], [`ConventionStudyOptions`], [`Stop`],
 //! [`ConventionRun`], [`run_combination`], [`StabilityLimit`],
 //! [`largest_stable_dt`], [`ConventionStudy`], [`convention_study`],
 //! [`pair_order`].
 
+mod combinations;
+pub use combinations::{combinations, Combination, BSMPM, REFERENCE, TAICHI};
+
 use crate::error::Result;
-use crate::mpm::conventions::{BodyForceAt, Conventions, Gradient, Knots, Positions};
-use crate::mpm::conventions::{Scheme, Transfer};
 use crate::mpm2d::monitor::stability_monitor;
 use crate::mpm2d::Conservation2d;
-use crate::scenes::aligned_vibration::{
-    parameters, AlignedErrors, AlignedMethod, AlignedVibration, SolutionForm,
-};
+use crate::scenes::aligned_vibration::{parameters, AlignedErrors, AlignedVibration};
 use rayon::prelude::*;
 use serde::Serialize;
-
-/// One combination of conventions of the step (docs/conventions.md,
-/// "Conventions of other codes") and, for one row, of the manufactured
-/// solution's form (MLS paper Eq. 38 or Wallstedt & Guilkey's), as the
-/// command line names it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Combination {
-    /// The row's name in the table.
-    pub label: &'static str,
-    /// The flags of `hompm run aligned-vibration` that give it (method,
-    /// degree and every convention that is not the MLS paper's).
-    pub flags: &'static str,
-    /// The method: quadratic B-spline MPM with the direct mapping, or the
-    /// total-Lagrangian reference without grid crossing.
-    pub method: AlignedMethod,
-    /// The step's conventions (`mpm::conventions`).
-    pub conventions: Conventions,
-    /// The manufactured solution (`--solution`; MLS paper Eq. 38 unless
-    /// the axis-aligned form).
-    pub solution: SolutionForm,
-}
-
-impl Combination {
-    /// The scene with this combination's solution form.
-    pub fn scene(&self, base: &AlignedVibration) -> AlignedVibration {
-        AlignedVibration {
-            solution: self.solution,
-            ..*base
-        }
-    }
-}
-
-/// The label of hompm's BSMPM, the first combination (MLS paper Eqs.
-/// 18–37 with MUSL and FLIP, book §4.2.2).
-pub const BSMPM: &str = "BSMPM";
-/// The label of the Taichi-style step (APIC, affine gradient, padded
-/// knots, USL; Hu et al. 2018, Jiang et al. 2015).
-pub const TAICHI: &str = "Taichi-style (apic, affine, padded)";
-/// The label of the control without grid crossing: the total-Lagrangian
-/// reference on the same quadratic B-splines (`Formulation::TotalLagrangian`).
-pub const REFERENCE: &str = "TL-FE reference (no grid crossing)";
-
-const fn with(scheme: Scheme, transfer: Transfer, knots: Knots, gradient: Gradient) -> Conventions {
-    Conventions {
-        scheme,
-        transfer,
-        knots,
-        gradient,
-        ..Conventions::MLS_PAPER
-    }
-}
-
-/// The combinations of the study, hompm's BSMPM first: from it one
-/// convention switched at a time (APIC runs with USL, which
-/// `Conventions::validate` requires), then the Taichi-style step and one
-/// convention switched back at a time (the affine gradient needs APIC, so
-/// replacing APIC drops it too; APIC cannot go back to MUSL); last, the
-/// total-Lagrangian reference, which separates what grid crossing does
-/// from what the manufactured solution does.
-pub fn combinations() -> Vec<Combination> {
-    use Gradient::{Affine, Basis};
-    use Knots::{Open, Padded};
-    use Scheme::{Musl, Usl};
-    let mls = Conventions::MLS_PAPER;
-    let paper = SolutionForm::MlsPaper;
-    let c = |label, flags, conventions| Combination {
-        label,
-        flags,
-        method: AlignedMethod::bsmpm(2),
-        conventions,
-        solution: paper,
-    };
-    vec![
-        c(BSMPM, "--method bsmpm --degree 2", mls),
-        c(
-            "BSMPM + usl",
-            "--method bsmpm --degree 2 --scheme usl",
-            with(Usl, Transfer::Flip, Open, Basis),
-        ),
-        c(
-            "BSMPM + pic",
-            "--method bsmpm --degree 2 --transfer pic",
-            with(Musl, Transfer::Pic, Open, Basis),
-        ),
-        c(
-            "BSMPM + flip:0.99",
-            "--method bsmpm --degree 2 --transfer flip:0.99",
-            with(Musl, Transfer::Blend(0.99), Open, Basis),
-        ),
-        c(
-            "BSMPM + apic (usl)",
-            "--method bsmpm --degree 2 --transfer apic",
-            with(Usl, Transfer::Apic, Open, Basis),
-        ),
-        c(
-            "BSMPM + padded knots",
-            "--method bsmpm --degree 2 --knots padded",
-            with(Musl, Transfer::Flip, Padded, Basis),
-        ),
-        c(
-            "BSMPM + projected positions",
-            "--method bsmpm --degree 2 --positions projected",
-            Conventions {
-                positions: Positions::Projected,
-                ..mls
-            },
-        ),
-        c(
-            "BSMPM + body force at nodes",
-            "--method bsmpm --degree 2 --body-force nodes",
-            Conventions {
-                body_force: BodyForceAt::Nodes,
-                ..mls
-            },
-        ),
-        Combination {
-            label: "BSMPM + axis-aligned solution",
-            flags: "--method bsmpm --degree 2 --solution axis-aligned",
-            method: AlignedMethod::bsmpm(2),
-            conventions: mls,
-            solution: SolutionForm::AxisAligned,
-        },
-        c(
-            TAICHI,
-            "--method bsmpm --degree 2 --transfer apic --gradient affine --knots padded",
-            with(Usl, Transfer::Apic, Padded, Affine),
-        ),
-        c(
-            "Taichi-style - affine",
-            "--method bsmpm --degree 2 --transfer apic --knots padded",
-            with(Usl, Transfer::Apic, Padded, Basis),
-        ),
-        c(
-            "Taichi-style - padded knots",
-            "--method bsmpm --degree 2 --transfer apic --gradient affine",
-            with(Usl, Transfer::Apic, Open, Affine),
-        ),
-        c(
-            "Taichi-style, pic for apic",
-            "--method bsmpm --degree 2 --transfer pic --scheme usl --knots padded",
-            with(Usl, Transfer::Pic, Padded, Basis),
-        ),
-        c(
-            "Taichi-style, flip for apic",
-            "--method bsmpm --degree 2 --scheme usl --knots padded",
-            with(Usl, Transfer::Flip, Padded, Basis),
-        ),
-        Combination {
-            label: REFERENCE,
-            flags: "--method tl-fe --degree 2",
-            method: AlignedMethod::TotalLagrangian { degree: 2 },
-            conventions: mls,
-            solution: paper,
-        },
-    ]
-}
 
 /// The stability part: the largest stable Δt of every combination on one
 /// grid, run to a given time (as the 1D map's Courant scan, thesis

@@ -41,6 +41,7 @@ pub use published::{digits_apply, effective_tolerance, equal_to_digits, signific
 pub use published::{CellTolerance, Source, Status, Tolerance, ToleranceKind, ToleranceRules};
 
 use crate::error::{Error, Result};
+use crate::studies::mls_convergence::ConventionStudy;
 use crate::studies::mls_paper::AlignedStudy;
 use crate::studies::tls_paper::SubpointStudy;
 use serde::Serialize;
@@ -78,6 +79,9 @@ pub struct Computed {
 pub enum Study {
     /// `mls-aligned`: the MLS paper's study of the aligned vibration.
     MlsAligned(Box<AlignedStudy>),
+    /// `mls-convergence-study`: the aligned vibration under other codes'
+    /// conventions (issue #38).
+    MlsConvergence(Box<ConventionStudy>),
     /// `tls-8`: the subpoint study, with midpoint and end placements.
     Subpoints {
         /// Subpoints at the midpoints of equal parts of the particle.
@@ -95,6 +99,7 @@ impl Serialize for Study {
         use serde::ser::Error as _;
         let json = match self {
             Study::MlsAligned(study) => serde_json::to_value(study),
+            Study::MlsConvergence(study) => serde_json::to_value(study),
             Study::Subpoints { midpoints, ends } => serde_json::to_value(midpoints).and_then(|m| {
                 Ok(serde_json::json!({ "midpoints": m, "ends": serde_json::to_value(ends)? }))
             }),

@@ -24,6 +24,9 @@ mod mls;
 /// Properties that hold for every input: bases, quadrature, mass,
 /// reconstruction, mappings, the FEM reference, and stability at failure.
 mod properties;
+/// Speed (issue #39): the lean steps hompm is timed against compute what
+/// hompm computes.
+mod speed;
 /// Thesis (Tielen 2016): Tables 5.1–7.2, Richardson, the text's facts.
 mod thesis;
 /// TLS paper (Wobbes et al. 2019): TLS, DDMPM, conservation, compaction.

@@ -108,7 +108,7 @@ pub fn run_aligned(a: &RunArgs, s: &Setup2d) -> Result<Output> {
         exact_solution: formulas_2d(false),
         particles: Particles2dJson {
             x0: p.x0.clone(),
-            x: p.x.iter().zip(&p.y).map(|(&x, &y)| [x, y]).collect(),
+            x: p.x.clone(),
             u: p.displacement.clone(),
             v: p.velocity.clone(),
             stress: rows(&p.stress),

@@ -54,9 +54,9 @@ pub(super) fn update_particles_blended(
             p.velocity[k][d] = alpha * flip + (1.0 - alpha) * v[d];
         }
         if moves {
-            p.x[k] += dt * v[0];
-            p.y[k] += dt * v[1];
-            p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+            p.x[k][0] += dt * v[0];
+            p.x[k][1] += dt * v[1];
+            p.displacement[k] = [p.x[k][0] - p.x0[k][0], p.x[k][1] - p.x0[k][1]];
         }
     }
 }
@@ -72,9 +72,9 @@ pub fn move_particles(grid: &Grid2d, p: &mut Particles2d, ws: &StepWorkspace2d, 
             v[0] += nn * ws.velocity_end[i][0];
             v[1] += nn * ws.velocity_end[i][1];
         });
-        p.x[k] += dt * v[0];
-        p.y[k] += dt * v[1];
-        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+        p.x[k][0] += dt * v[0];
+        p.x[k][1] += dt * v[1];
+        p.displacement[k] = [p.x[k][0] - p.x0[k][0], p.x[k][1] - p.x0[k][1]];
     }
 }
 
@@ -113,7 +113,7 @@ pub fn map_direct_apic(
     ws.momentum.iter_mut().for_each(|m| *m = [0.0; 2]);
     ws.force.iter_mut().for_each(|f| *f = [0.0; 2]);
     for k in 0..p.len() {
-        let (x, y) = (p.x[k], p.y[k]);
+        let [x, y] = p.x[k];
         let m = p.mass[k];
         let (v, c, b) = (p.velocity[k], p.affine[k], ws.body_force[k]);
         let s = p.stress[k] * p.volume[k];
@@ -146,7 +146,7 @@ pub fn update_particles_apic(grid: &Grid2d, p: &mut Particles2d, ws: &StepWorksp
     let (n, w) = (grid.nodes_per_side(), grid.stencil_width());
     let (sx, sy, node) = (&ws.stencils_x, &ws.stencils_y, &ws.node_along);
     for k in 0..p.len() {
-        let (x, y) = (p.x[k], p.y[k]);
+        let [x, y] = p.x[k];
         let d_inv = inverse_inertia(ws, k, x, y);
         let (mut v, mut b) = ([0.0; 2], [0.0; 4]);
         TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
@@ -166,9 +166,9 @@ pub fn update_particles_apic(grid: &Grid2d, p: &mut Particles2d, ws: &StepWorksp
             b[2] * d_inv[0],
             b[3] * d_inv[1],
         );
-        p.x[k] += dt * v[0];
-        p.y[k] += dt * v[1];
-        p.displacement[k] = [p.x[k] - p.x0[k][0], p.y[k] - p.x0[k][1]];
+        p.x[k][0] += dt * v[0];
+        p.x[k][1] += dt * v[1];
+        p.displacement[k] = [p.x[k][0] - p.x0[k][0], p.x[k][1] - p.x0[k][1]];
     }
 }
 

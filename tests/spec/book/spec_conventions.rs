@@ -314,8 +314,8 @@ fn the_2d_blend_and_projected_positions_follow_the_1d_formulas() {
     }
     // PIC: v_p = Σ N_i v_i^{t+1}, the velocity Eq. (30) moves the particle with.
     let moved = [
-        (pic.particles.x[0] - 0.25) / DT,
-        (pic.particles.y[0] - 0.25) / DT,
+        (pic.particles.x[0][0] - 0.25) / DT,
+        (pic.particles.x[0][1] - 0.25) / DT,
     ];
     for (v, m) in pic.particles.velocity[0].iter().zip(moved) {
         assert_relative_eq!(*v, m, max_relative = 1e-12);
@@ -326,10 +326,7 @@ fn the_2d_blend_and_projected_positions_follow_the_1d_formulas() {
         ..Conventions::MLS_PAPER
     });
     let ws = &projected.workspace;
-    for (d, x) in [projected.particles.x[0], projected.particles.y[0]]
-        .into_iter()
-        .enumerate()
-    {
+    for (d, x) in projected.particles.x[0].into_iter().enumerate() {
         let v_end: f64 = [0usize, 1, 3, 4]
             .iter()
             .map(|&i| 0.25 * ws.velocity_end[i][d])
@@ -339,9 +336,9 @@ fn the_2d_blend_and_projected_positions_follow_the_1d_formulas() {
     }
     // Both rules keep u_p = x_p − X_p.
     for p in [&projected.particles, &pic.particles, &half.particles] {
-        assert_eq!(p.displacement[0], [p.x[0] - 0.25, p.y[0] - 0.25]);
+        assert_eq!(p.displacement[0], [p.x[0][0] - 0.25, p.x[0][1] - 0.25]);
     }
-    assert!((projected.particles.x[0] - flip.particles.x[0]).abs() > 1e-6);
+    assert!((projected.particles.x[0][0] - flip.particles.x[0][0]).abs() > 1e-6);
 }
 
 #[test]

@@ -48,7 +48,7 @@ struct Defective<F: FnMut(StepPoint, usize, &mut Simulation)> {
 
 impl<F: FnMut(StepPoint, usize, &mut Simulation)> StepObserver for Defective<F> {
     fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> hompm::Result<()> {
-        let step = sim.diagnostics.steps + 1;
+        let step = hompm::mpm::monitor::Watched::steps_done(sim) + 1;
         (self.plant)(point, step, sim);
         self.trace.observe(point, sim)
     }

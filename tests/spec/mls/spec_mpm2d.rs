@@ -229,8 +229,8 @@ fn scattered_particles(cells: usize, per_side: usize, jitter: f64, seed: u64) ->
     let mut p = Particles2d::cell_centred(1.0, cells, per_side, 1000.0, |_| [0.0; 2]).unwrap();
     let d = 1.0 / (cells * per_side) as f64;
     for k in 0..p.len() {
-        p.x[k] += jitter * d * (rng.uniform() - 0.5);
-        p.y[k] += jitter * d * (rng.uniform() - 0.5);
+        p.x[k][0] += jitter * d * (rng.uniform() - 0.5);
+        p.x[k][1] += jitter * d * (rng.uniform() - 0.5);
     }
     p
 }
@@ -240,6 +240,16 @@ fn cells_of(grid: &Grid2d, coords: &[f64]) -> Vec<usize> {
         .iter()
         .map(|&c| grid.axis().cell_of(c).unwrap())
         .collect()
+}
+
+/// The cells along axis `c` of the positions `x`.
+fn cells_along(grid: &Grid2d, x: &[[f64; 2]], c: usize) -> Vec<usize> {
+    cells_of(grid, &x.iter().map(|x| x[c]).collect::<Vec<_>>())
+}
+
+/// Positions [x, y] from separate coordinate lists.
+fn pairs(x: &[f64], y: &[f64]) -> Vec<[f64; 2]> {
+    x.iter().zip(y).map(|(&x, &y)| [x, y]).collect()
 }
 
 #[test]
@@ -256,9 +266,8 @@ fn mls_shape_functions_reproduce_constants_and_linear_fields_at_every_gauss_poin
         mls.evaluate(
             &gauss,
             &p.x,
-            &p.y,
-            &cells_of(&grid, &p.x),
-            &cells_of(&grid, &p.y),
+            &cells_along(&grid, &p.x, 0),
+            &cells_along(&grid, &p.x, 1),
         )
         .unwrap();
         let n = 8;
@@ -270,10 +279,10 @@ fn mls_shape_functions_reproduce_constants_and_linear_fields_at_every_gauss_poin
             for e in range {
                 let k = mls.particle[e] as usize;
                 s0 += mls.phi[e];
-                sx += mls.phi[e] * p.x[k];
-                sy += mls.phi[e] * p.y[k];
+                sx += mls.phi[e] * p.x[k][0];
+                sy += mls.phi[e] * p.x[k][1];
                 // Only particles inside the support r < 1.5 carry weight.
-                assert!((p.x[k] - xg[0]).abs() < 1.5 * support * 0.25);
+                assert!((p.x[k][0] - xg[0]).abs() < 1.5 * support * 0.25);
             }
             assert_relative_eq!(s0, 1.0, epsilon = 1e-12);
             assert_relative_eq!(sx, xg[0], epsilon = 1e-12);
@@ -310,30 +319,28 @@ fn mls_shape_functions_are_eq_14_over_exactly_the_particles_in_the_support() {
         let h = length / cells as f64;
         let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, length, cells).unwrap();
         let mut p = scattered_particles(cells, 3, 0.9, seed);
-        p.x.iter_mut()
-            .chain(p.y.iter_mut())
-            .for_each(|c| *c *= length);
+        p.x.iter_mut().flatten().for_each(|c| *c *= length);
         let mut mls = MlsShapes::new(support, cells, p.len()).unwrap();
         let gauss = GaussGrid {
             abscissae: grid.gauss_abscissae(),
             cells,
             cell_size: h,
         };
-        let (cx, cy) = (cells_of(&grid, &p.x), cells_of(&grid, &p.y));
-        mls.evaluate(&gauss, &p.x, &p.y, &cx, &cy).unwrap();
+        let (cx, cy) = (cells_along(&grid, &p.x, 0), cells_along(&grid, &p.x, 1));
+        mls.evaluate(&gauss, &p.x, &cx, &cy).unwrap();
         let n = 2 * cells;
         let mut largest_condition = 0.0f64;
         for g in 0..n * n {
             let xg = [grid.gauss_abscissae()[g % n], grid.gauss_abscissae()[g / n]];
             let w: Vec<f64> = (0..p.len())
                 .map(|k| {
-                    weight((p.x[k] - xg[0]) / (support * h))
-                        * weight((p.y[k] - xg[1]) / (support * h))
+                    weight((p.x[k][0] - xg[0]) / (support * h))
+                        * weight((p.x[k][1] - xg[1]) / (support * h))
                 })
                 .collect();
             let mut a = nalgebra::Matrix3::zeros();
             for (k, &wk) in w.iter().enumerate() {
-                let q = nalgebra::Vector3::new(1.0, p.x[k], p.y[k]);
+                let q = nalgebra::Vector3::new(1.0, p.x[k][0], p.x[k][1]);
                 a += wk * q * q.transpose();
             }
             let a_inv = a.try_inverse().unwrap();
@@ -342,8 +349,8 @@ fn mls_shape_functions_are_eq_14_over_exactly_the_particles_in_the_support() {
             let mut local = nalgebra::Matrix3::zeros();
             for (k, &wk) in w.iter().enumerate() {
                 let d = [
-                    (p.x[k] - xg[0]) / (support * h),
-                    (p.y[k] - xg[1]) / (support * h),
+                    (p.x[k][0] - xg[0]) / (support * h),
+                    (p.x[k][1] - xg[1]) / (support * h),
                 ];
                 let q = nalgebra::Vector3::new(1.0, d[0], d[1]);
                 local += wk * q * q.transpose();
@@ -355,7 +362,7 @@ fn mls_shape_functions_are_eq_14_over_exactly_the_particles_in_the_support() {
                 .filter(|&k| w[k] > 0.0)
                 .map(|k| {
                     let pg = nalgebra::Vector3::new(1.0, xg[0], xg[1]);
-                    let pp = nalgebra::Vector3::new(1.0, p.x[k], p.y[k]);
+                    let pp = nalgebra::Vector3::new(1.0, p.x[k][0], p.x[k][1]);
                     (k, w[k] * (pg.transpose() * a_inv * pp)[0])
                 })
                 .collect();
@@ -420,7 +427,7 @@ fn mls_neighbour_lists_grow_for_a_cluster_denser_than_the_average() {
         cell_size: h,
     };
     let (cx, cy) = (cells_of(&grid, &x), cells_of(&grid, &y));
-    mls.evaluate(&gauss, &x, &y, &cx, &cy).unwrap();
+    mls.evaluate(&gauss, &pairs(&x, &y), &cx, &cy).unwrap();
     let n = 2 * cells;
     let mut most = 0;
     for g in 0..n * n {
@@ -456,7 +463,12 @@ fn mls_with_collinear_particles_is_a_singular_system_error() {
         cell_size: 0.5,
     };
     let err = mls
-        .evaluate(&gauss, &x, &y, &cells_of(&grid, &x), &cells_of(&grid, &y))
+        .evaluate(
+            &gauss,
+            &pairs(&x, &y),
+            &cells_of(&grid, &x),
+            &cells_of(&grid, &y),
+        )
         .unwrap_err();
     match err {
         Error::SingularMoments {
@@ -493,7 +505,7 @@ fn direct_mapping_equals_a_dense_assembly_at_degree(degree: usize) {
     let n = tensor.num_basis();
     let (mut m, mut mv, mut f) = (vec![0.0; n], vec![[0.0; 2]; n], vec![[0.0; 2]; n]);
     for k in 0..p.len() {
-        let loc = tensor.local_basis(p.x[k], p.y[k]).unwrap();
+        let loc = tensor.local_basis(p.x[k][0], p.x[k][1]).unwrap();
         for ((&i, &nv), g) in loc.indices.iter().zip(&loc.values).zip(&loc.gradients) {
             m[i] += nv * p.mass[k];
             for d in 0..2 {
@@ -555,12 +567,12 @@ fn one_bilinear_step_by_hand() {
     assert_relative_eq!(v[1], -2.0 - 0.03, max_relative = 1e-14);
     // Eq. (30): x_p += Δt Σ N v_i = 0.01·¼·(0.96 + 0.98, −2.07 − 2.05).
     assert_relative_eq!(
-        sim.particles.x[0],
+        sim.particles.x[0][0],
         0.25 + 0.0025 * 1.94,
         max_relative = 1e-14
     );
     assert_relative_eq!(
-        sim.particles.y[0],
+        sim.particles.x[0][1],
         0.25 + 0.0025 * (-4.12),
         max_relative = 1e-14
     );
@@ -662,7 +674,7 @@ fn the_deformation_update_is_eq_34_with_the_tensor_basis_at_the_old_positions() 
         let v = &sim.workspace.velocity_end;
         let mut largest_shear: f64 = 0.0;
         for k in 0..p.len() {
-            let loc = tensor.local_basis(p.x[k], p.y[k]).unwrap();
+            let loc = tensor.local_basis(p.x[k][0], p.x[k][1]).unwrap();
             let mut l = Matrix2::<f64>::zeros();
             for (&i, g) in loc.indices.iter().zip(&loc.gradients) {
                 for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
@@ -753,7 +765,7 @@ fn the_step_records_the_largest_mapping_errors_of_mass_and_momentum() {
     // exactly and the grid mass differs from the particles'.
     let mut p = randomly_moving(scattered_particles(4, 3, 0.9, 23), 29);
     for k in 0..p.len() {
-        p.density[k] *= 1.0 + 0.5 * p.x[k] * p.x[k] * p.y[k];
+        p.density[k] *= 1.0 + 0.5 * p.x[k][0] * p.x[k][0] * p.x[k][1];
         p.mass[k] = p.density[k] * p.volume[k];
     }
     let first = mapping_errors(&p);
@@ -791,7 +803,7 @@ fn the_step_records_the_largest_mapping_errors_of_mass_and_momentum() {
 #[test]
 fn the_total_lagrangian_reference_maps_first_piola_stress_at_the_initial_positions() {
     let mut p = Particles2d::new(vec![[0.25, 0.25]], vec![0.5], 4.0, vec![[0.0, 0.0]]).unwrap();
-    p.x[0] = 0.75;
+    p.x[0][0] = 0.75;
     p.deformation[0] = Matrix2::new(1.25, 0.5, 0.0, 0.8);
     p.stress[0] = Matrix2::new(3.0, 1.0, 1.0, -4.0);
     for (formulation, nodes, acceleration) in [
@@ -942,7 +954,7 @@ fn a_particle_leaving_the_square_and_bad_steps_are_errors() {
     let s = parameters("mls-paper-e1e7").unwrap();
     let mut sim = s.simulation(AlignedMethod::Mpm, 2, 2, 1.0).unwrap();
     crate::common::assert_refuses_bad_time_steps(|dt| sim.step(dt));
-    sim.particles.x[3] = 1.5;
+    sim.particles.x[3][0] = 1.5;
     assert!(matches!(
         sim.step(1e-5),
         Err(Error::ParticleLeftGrid { particle: 3, .. })
@@ -979,8 +991,8 @@ fn the_mls_mapping_integrates_linear_fields_exactly() {
     let v = |x: f64, y: f64| [0.3 + 2.0 * x - y, -0.1 + 0.5 * x + 1.5 * y];
     let sigma = |x: f64, y: f64| Matrix2::new(1.0 + x, 0.5 * y, 0.5 * y, 2.0 - x + y);
     for k in 0..p.len() {
-        p.velocity[k] = v(p.x[k], p.y[k]);
-        p.stress[k] = sigma(p.x[k], p.y[k]);
+        p.velocity[k] = v(p.x[k][0], p.x[k][1]);
+        p.stress[k] = sigma(p.x[k][0], p.x[k][1]);
     }
     let rho = p.density[0];
     let mut sim = Simulation2d::new(
@@ -1202,7 +1214,10 @@ fn tls_shapes(
         cells,
         cell_size: grid.cell_size(),
     };
-    let (cx, cy) = (cells_of(&grid, &particles.x), cells_of(&grid, &particles.y));
+    let (cx, cy) = (
+        cells_along(&grid, &particles.x, 0),
+        cells_along(&grid, &particles.x, 1),
+    );
     shapes.evaluate(&gauss, particles, &cx, &cy)?;
     Ok((shapes, grid))
 }
@@ -1215,7 +1230,7 @@ fn reconstructed_at_gauss_points(
     f: impl Fn(f64, f64) -> f64,
 ) -> Vec<([f64; 2], f64)> {
     let lists = shapes.lists();
-    let (a, n) = (grid.gauss_abscissae(), 2 * grid.cells());
+    let (a, n) = (grid.gauss_abscissae(), 2 * grid.cells_per_side());
     let mut out = Vec::new();
     for gy in 0..n {
         for gx in 0..n {
@@ -1223,7 +1238,7 @@ fn reconstructed_at_gauss_points(
             let value = (lists.start[g]..lists.end[g])
                 .map(|e| {
                     let k = lists.particle[e] as usize;
-                    lists.phi[e] * f(p.x[k], p.y[k])
+                    lists.phi[e] * f(p.x[k][0], p.x[k][1])
                 })
                 .sum();
             out.push(([a[gx], a[gy]], value));
@@ -1396,8 +1411,8 @@ fn a_cell_of_collinear_particles_is_refused_by_name_or_repaired_conservatively()
     let mut p = scattered_particles(2, 3, 0.5, 3);
     // The nine particles of cell (1, 0) onto the line y = 0.3 x − 0.05.
     for k in 0..p.len() {
-        if p.x[k] > 0.5 && p.y[k] < 0.5 {
-            p.y[k] = 0.3 * p.x[k] - 0.05;
+        if p.x[k][0] > 0.5 && p.x[k][1] < 0.5 {
+            p.x[k][1] = 0.3 * p.x[k][0] - 0.05;
         }
     }
     let strict = tls_shapes(
@@ -1456,9 +1471,9 @@ fn mass_jump_across_a_cell_boundary(mapping: Mapping2d, delta: f64) -> f64 {
     let masses = |x: f64| {
         let mut p = scattered_particles(2, 3, 0.6, 9);
         let k = (0..p.len())
-            .min_by(|&a, &b| (p.x[a] - 0.5).abs().total_cmp(&(p.x[b] - 0.5).abs()))
+            .min_by(|&a, &b| (p.x[a][0] - 0.5).abs().total_cmp(&(p.x[b][0] - 0.5).abs()))
             .unwrap();
-        p.x[k] = x;
+        p.x[k][0] = x;
         let grid = Grid2d::new(Basis2d::BSpline { degree: 2 }, 1.0, 2).unwrap();
         let settings = settings(Formulation::UpdatedLagrangian, mapping);
         let mut sim = Simulation2d::new(grid, p, settings, None).unwrap();

@@ -1,0 +1,8 @@
+//! Issue #39: the lean steps that hompm's speed is measured against
+//! compute bit for bit what hompm's step computes, so a ratio of their
+//! times is a ratio of the same work.
+
+mod lean_p1;
+#[path = "../../../benches/lean/p1.rs"]
+#[allow(dead_code)]
+mod p1;
