@@ -10,7 +10,7 @@
 
 use super::mls::MlsShapes;
 use super::reconstruction::GaussReconstruction;
-use super::tls::TlsShapes;
+use super::tls::{BasisRule, TlsShapes};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
 
@@ -30,6 +30,10 @@ pub enum Mapping2d {
     /// Conservative Taylor least squares (TLS paper §5.2–5.5 on the cells,
     /// [`super::tls`]) in place of MLS, in both mappings of a step.
     Tls,
+    /// [`Mapping2d::Tls`] with the basis chosen by each cell's particle
+    /// count, as the 2D TLS of QuocAnh90/MPM2D_basic (cc01c1b,
+    /// `SubFunctions/TLS2D.m:56-76`): [`super::tls::BasisRule::ParticleCount`].
+    TlsByCount,
 }
 
 /// What the rest of hompm knows of a mapping: its names and its cost. One
@@ -54,11 +58,12 @@ pub struct MappingInfo {
 
 impl Mapping2d {
     /// Every mapping, in the order the command line lists them.
-    pub const ALL: [Mapping2d; 4] = [
+    pub const ALL: [Mapping2d; 5] = [
         Mapping2d::Direct,
         Mapping2d::Mls,
         Mapping2d::MlsPhase1,
         Mapping2d::Tls,
+        Mapping2d::TlsByCount,
     ];
 
     /// The registration of a mapping's names and cost.
@@ -92,6 +97,13 @@ impl Mapping2d {
                 ns_per_particle_step: 250.0,
                 bytes_per_particle: 0.0,
             },
+            Mapping2d::TlsByCount => MappingInfo {
+                name: "tls-by-count",
+                label: "TLS-by-count",
+                summary: "B-spline MPM with conservative TLS whose basis follows each cell's particle count, as MPM2D_basic's TLS2D.m (aligned-vibration only)",
+                ns_per_particle_step: 250.0,
+                bytes_per_particle: 0.0,
+            },
         }
     }
 
@@ -111,6 +123,9 @@ impl Mapping2d {
                 Some(Box::new(MlsShapes::new(mls_support, cells, particles)?))
             }
             Mapping2d::Tls => Some(Box::new(TlsShapes::for_engine(cells, particles)?)),
+            Mapping2d::TlsByCount => Some(Box::new(
+                TlsShapes::for_engine(cells, particles)?.with_basis_rule(BasisRule::ParticleCount),
+            )),
         })
     }
 

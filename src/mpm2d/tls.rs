@@ -48,8 +48,23 @@
 //! Gauss point whose support loses its particles has no TLS counterpart: a
 //! cell without particles has f̃ = 0, which is exactly its particles' sum.
 //!
+//! **Which basis a cell starts from** ([`BasisRule`]). The engine starts
+//! every cell at the quadratic basis and lowers it only when the fit is
+//! degenerate ([`BasisRule::Conditioning`]). The 2D TLS of QuocAnh90/MPM2D_basic
+//! (commit cc01c1b, `SubFunctions/TLS2D.m:56-76`) chooses by the particle
+//! count instead ([`BasisRule::ParticleCount`]): under the constraint, the
+//! constant alone below 3 particles, linear below 6, quadratic from 6;
+//! without it, linear below 6, quadratic from 6. The two differ in a
+//! conservative cell of 5 particles (five points determine the five fitted
+//! quadratic functions, so the engine interpolates where the count rule
+//! fits a plane) and of 2 (the engine interpolates a plane through two
+//! points off a line through the centroid, the count rule keeps the
+//! average). hompm's count rule still reduces a basis that is degenerate
+//! (six particles on two rows, where the unconstrained fit's ψ₁ and ψ₆ agree), where that code solves a singular
+//! system (docs/reproduction-notes.md, "The 2D TLS of MPM2D_basic").
+//!
 //! Items: [`TLS_2D_MAX_CONDITION`], [`TaylorOrder2d`], [`TlsVariant`],
-//! [`TaylorBasis2d`], [`TlsShapes`].
+//! [`BasisRule`], [`TaylorBasis2d`], [`TlsShapes`].
 
 use super::particles::Particles2d;
 use super::reconstruction::{
@@ -111,6 +126,41 @@ pub enum TlsVariant {
     Unconstrained,
 }
 
+/// The basis a cell's fit starts from (module doc, "Which basis a cell
+/// starts from"); either is reduced further while the fit is degenerate
+/// (TLS paper §5.3, under [`DegenerateCells::ReduceBasis`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BasisRule {
+    /// The order the shapes were built with, in every cell (hompm's engine).
+    Conditioning,
+    /// By the number of particles n of the cell, as `TLS2D.m:56-76` of
+    /// MPM2D_basic (cc01c1b): conservative, constant for n < 3, linear for
+    /// n < 6, quadratic otherwise; unconstrained, linear for n < 6,
+    /// quadratic otherwise. Never above the order the shapes were built with;
+    /// [`Reconstruction::repaired`] then counts every cell fitted below that
+    /// order, whether the count or the repair lowered it.
+    ParticleCount,
+}
+
+impl BasisRule {
+    /// The starting basis of a cell of `particles` particles, at most
+    /// `order`, for `variant` (the variants of [`BasisRule`]).
+    pub fn start(
+        self,
+        order: TaylorOrder2d,
+        variant: TlsVariant,
+        particles: usize,
+    ) -> TaylorOrder2d {
+        let by_count = match (self, variant, particles) {
+            (BasisRule::Conditioning, _, _) => TaylorOrder2d::Quadratic,
+            (BasisRule::ParticleCount, TlsVariant::Conservative, 0..=2) => TaylorOrder2d::Constant,
+            (BasisRule::ParticleCount, _, 0..=5) => TaylorOrder2d::Linear,
+            (BasisRule::ParticleCount, _, _) => TaylorOrder2d::Quadratic,
+        };
+        by_count.min(order)
+    }
+}
+
 /// The 2D Taylor basis of one rectangular cell (module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TaylorBasis2d {
@@ -166,6 +216,7 @@ pub struct TlsShapes {
     order: TaylorOrder2d,
     variant: TlsVariant,
     degenerate: DegenerateCells,
+    rule: BasisRule,
     max_condition: f64,
     shapes: ShapeBuffers,
     largest_condition: f64,
@@ -209,6 +260,7 @@ impl TlsShapes {
             order,
             variant,
             degenerate,
+            rule: BasisRule::Conditioning,
             max_condition: TLS_2D_MAX_CONDITION,
             shapes: ShapeBuffers {
                 start: vec![0; gauss_points],
@@ -228,6 +280,13 @@ impl TlsShapes {
     /// [`TLS_2D_MAX_CONDITION`]).
     pub fn with_max_condition(mut self, limit: f64) -> Self {
         self.max_condition = limit;
+        self
+    }
+
+    /// The same with another rule for a cell's starting basis (default
+    /// [`BasisRule::Conditioning`]).
+    pub fn with_basis_rule(mut self, rule: BasisRule) -> Self {
+        self.rule = rule;
         self
     }
 
@@ -253,7 +312,7 @@ impl TlsShapes {
     ) -> Result<CellSolution> {
         let skip = usize::from(self.variant == TlsVariant::Conservative);
         let at = gauss.map(|x| basis.evaluate(x));
-        let mut order = self.order;
+        let mut order = self.rule.start(self.order, self.variant, self.rows.len());
         loop {
             let fitted = order.functions() - skip;
             let solved = match fitted {

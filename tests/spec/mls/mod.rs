@@ -4,3 +4,4 @@ mod spec_mls_convergence;
 mod spec_mpm2d;
 mod spec_strip;
 mod spec_strip_mls;
+mod spec_tls2d_count;
