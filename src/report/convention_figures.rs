@@ -80,12 +80,35 @@ fn stopped_runs(study: &ConventionStudy) -> Vec<String> {
             match &r.stop {
                 Some(s) => format!(
                     "{label}, {} cells: stopped at t = {:.4} s ({})",
-                    r.cells, s.time, s.cause
+                    r.cells,
+                    s.time,
+                    short_cause(&s.cause)
                 ),
                 None => format!("{label}, {} cells: no end record", r.cells),
             }
         })
         .collect()
+}
+
+/// The first clause of a stop's message, without the numbers that follow
+/// it in brackets (the table's notes have the whole message).
+fn short_cause(cause: &str) -> &str {
+    let end = cause.find(" (").unwrap_or(cause.len()).min(90);
+    let end = (0..=end)
+        .rev()
+        .find(|&k| cause.is_char_boundary(k))
+        .unwrap_or(0);
+    &cause[..end]
+}
+
+/// The x range of `series` widened to the right, so that the legend (drawn
+/// in the upper right) does not cover a point.
+fn room_for_the_legend(series: &[Series]) -> Option<(f64, f64)> {
+    let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let (lo, hi) = xs.fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+        (lo.min(x), hi.max(x))
+    });
+    (lo.is_finite() && hi > 0.0).then_some((0.8 * lo, 8.0 * hi))
 }
 
 /// The end time's words for titles: T = 0.2 s or one period.
@@ -100,6 +123,8 @@ fn convention_convergence_chart(
     stopped: &[String],
 ) -> Result<()> {
     let length = 1.0;
+    let lines = series(study, |r, e| (length / r.cells as f64, e));
+    let x_range = room_for_the_legend(&lines);
     charts::write(
         dir,
         "convention_convergence",
@@ -112,11 +137,11 @@ fn convention_convergence_chart(
             y_label: format!("RMS displacement error at {} [m]", end_label(study)),
             log_x: true,
             log_y: true,
-            series: series(study, |r, e| (length / r.cells as f64, e)),
+            series: lines,
             hlines: vec![],
             footnotes: stopped.to_vec(),
             x_categories: vec![],
-            x_range: None,
+            x_range,
             y_range: None,
         },
     )
@@ -133,6 +158,8 @@ fn convention_work_precision_chart(
             .to_string(),
     ];
     footnotes.extend(stopped.iter().cloned());
+    let lines = series(study, |r, e| (r.ns_per_particle_step(), e));
+    let x_range = room_for_the_legend(&lines);
     charts::write(
         dir,
         "convention_work_precision",
@@ -145,11 +172,11 @@ fn convention_work_precision_chart(
             y_label: format!("RMS displacement error at {} [m]", end_label(study)),
             log_x: true,
             log_y: true,
-            series: series(study, |r, e| (r.ns_per_particle_step(), e)),
+            series: lines,
             hlines: vec![],
             footnotes,
             x_categories: vec![],
-            x_range: None,
+            x_range,
             y_range: None,
         },
     )
@@ -175,7 +202,8 @@ fn convention_stability_chart(dir: &Path, study: &ConventionStudy) -> Result<()>
         let unstable = match (&limit.smallest_unstable, &limit.stop) {
             (Some(dt), Some(stop)) => format!(
                 "stops at Δt = {dt:.3e} s (step {}: {})",
-                stop.step, stop.cause
+                stop.step,
+                short_cause(&stop.cause)
             ),
             _ => format!("no stop up to Δt = {:.1e} s", options.largest_dt),
         };
