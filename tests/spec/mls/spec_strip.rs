@@ -58,7 +58,8 @@ fn the_code_s_time_loop_ends_just_past_0_02_s() {
     assert_relative_eq!(steps as f64 * dt, 0.0200625, max_relative = 1e-12);
 }
 
-fn fixture(name: &str) -> String {
+/// A file of the MLS paper's code's runs (tests/fixtures/tran).
+pub(super) fn fixture(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/tran")
         .join(name)
@@ -181,7 +182,7 @@ fn origin_moves_a_file_whose_body_starts_elsewhere_onto_hompm_s() {
 }
 
 /// The code's own RMS errors, from the `# rms (code):` line of its file.
-fn code_rms(file: &str) -> [f64; 3] {
+pub(super) fn code_rms(file: &str) -> [f64; 3] {
     let text = std::fs::read_to_string(fixture(file)).unwrap();
     let line = text
         .lines()

@@ -7,12 +7,12 @@
 //! `scripts/tran_code_check.sh` from `Vibration('MLS_BSMPM', N)` under GNU
 //! Octave 7.3) checked with one `hompm check` line each.
 
+use super::spec_strip::{code_rms, fixture};
 use approx::assert_relative_eq;
 use hompm::mpm::mapping::mls::cell_shape_functions;
 use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix, MlsWeights};
 use hompm::scenes::manufactured_strip::parameters;
 use hompm::studies::mls_code::CodeSolver;
-use std::path::PathBuf;
 
 /// N_p(x_g) at x_g = ½ for particles at 0.1, 0.3, 0.6, 0.9 of a unit
 /// cell, solved in exact rational arithmetic (Python's `fractions`, the
@@ -146,15 +146,6 @@ fn the_code_s_weights_make_its_acceleration_h_over_2_times_the_strip_s() {
     }
 }
 
-fn fixture(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/tran")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_string()
-}
-
 fn check(mapping: &str, cells: usize) -> hompm::cli::Output {
     let input = fixture(&format!("strip-MLS_BSMPM-{cells}.csv"));
     let strip = parameters("mls-paper-code").unwrap().placed(cells);
@@ -246,20 +237,6 @@ fn the_mls_mappings_run_another_code_s_step_and_the_others_still_refuse_it() {
     ])
     .unwrap_err();
     assert!(e.to_string().contains("--mapping mls"), "{e}");
-}
-
-/// The code's own RMS errors, from the `# rms (code):` line of its file.
-fn code_rms(file: &str) -> [f64; 3] {
-    let text = std::fs::read_to_string(fixture(file)).unwrap();
-    let line = text
-        .lines()
-        .find(|l| l.starts_with("# rms (code):"))
-        .unwrap();
-    let numbers: Vec<f64> = line
-        .split([' ', ','])
-        .filter_map(|w| w.parse().ok())
-        .collect();
-    [numbers[0], numbers[1], numbers[2]]
 }
 
 #[test]
