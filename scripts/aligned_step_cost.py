@@ -5,14 +5,17 @@ each combination of mls-convergence-study (issue #38).
 The table's own wall times are taken while its runs share two cores (and
 whatever else the machine runs); this measures the processor time (user +
 sys, from os.wait4) of `hompm run aligned-vibration --cells C --ppc 9`
-with 550 steps minus the same with 50 (which removes the setup), best of
-three, divided by 500 steps x the particles. Run by hand:
-  python3 scripts/aligned_step_cost.py [path/to/hompm] [cells]
+with LONG steps minus the same with 50 (which removes the setup), best of
+three, divided by (LONG - 50) steps x the particles; LONG is 550 unless
+given (conservative TLS stops near step 260 on 64 cells: use 250 there).
+Run by hand:
+  python3 scripts/aligned_step_cost.py [path/to/hompm] [cells] [long]
 Only the standard library."""
 import os, subprocess, sys
 
 HOMPM = sys.argv[1] if len(sys.argv) > 1 else "target/release/hompm"
 CELLS = int(sys.argv[2]) if len(sys.argv) > 2 else 32
+LONG = int(sys.argv[3]) if len(sys.argv) > 3 else 550
 
 # The flags of src/studies/mls_convergence.rs, `combinations()`.
 FLAGS = {
@@ -32,6 +35,12 @@ FLAGS = {
     "Taichi-style, pic for apic":
         "--method bsmpm --degree 2 --transfer pic --scheme usl --knots padded",
     "Taichi-style, flip for apic": "--method bsmpm --degree 2 --scheme usl --knots padded",
+    "BSMPM + MLS": "--method bsmpm-mls",
+    "BSMPM + MLS + usl": "--method bsmpm-mls --scheme usl",
+    "BSMPM + MLS + flip:0.99": "--method bsmpm-mls --transfer flip:0.99",
+    "BSMPM + TLS": "--method bsmpm-tls",
+    "BSMPM + TLS + usl": "--method bsmpm-tls --scheme usl",
+    "BSMPM + TLS + flip:0.99": "--method bsmpm-tls --transfer flip:0.99",
     "TL-FE reference (no grid crossing)": "--method tl-fe --degree 2",
 }
 
@@ -52,6 +61,6 @@ def cpu_seconds(flags, steps):
 if __name__ == "__main__":
     particles = CELLS * CELLS * 9
     for label, flags in FLAGS.items():
-        ns = 1e9 * (cpu_seconds(flags, 550) - cpu_seconds(flags, 50)) / (500 * particles)
+        ns = 1e9 * (cpu_seconds(flags, LONG) - cpu_seconds(flags, 50)) / ((LONG - 50) * particles)
         print(f"{label}: {ns:.0f} ns per particle-step ({CELLS} cells, {particles} particles)",
               flush=True)
