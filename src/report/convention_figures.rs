@@ -201,7 +201,12 @@ fn convention_stability_chart(dir: &Path, study: &ConventionStudy) -> Result<()>
         }
         let unstable = match (&limit.smallest_unstable, &limit.stop) {
             (Some(dt), Some(stop)) => format!(
-                "stops at Δt = {dt:.3e} s (step {}: {})",
+                "{}stops at Δt = {dt:.3e} s (step {}: {})",
+                if limit.largest_stable.is_none() {
+                    "no Δt tried reaches the end; "
+                } else {
+                    ""
+                },
                 stop.step,
                 short_cause(&stop.cause)
             ),
@@ -224,11 +229,10 @@ fn convention_stability_chart(dir: &Path, study: &ConventionStudy) -> Result<()>
             series,
             hlines: vec![],
             footnotes,
-            x_categories: study
-                .stability
-                .iter()
-                .enumerate()
-                .map(|(k, _)| format!("{}", k + 1))
+            // Empty slots on the right leave room for the legend.
+            x_categories: (1..=study.stability.len())
+                .map(|k| k.to_string())
+                .chain(std::iter::repeat_n(String::new(), 7))
                 .collect(),
             x_range: None,
             y_range: None,
