@@ -66,6 +66,20 @@ fn the_code_s_mls_fit_refuses_what_it_cannot_fit_with_an_error_not_a_nan() {
     // Two particles cannot fix three coefficients: A is singular.
     let e = cell_shape_functions(0.5, [0.2, 0.8].into_iter(), 1.0, 0.0, &mut two).unwrap_err();
     assert!(e.to_string().contains("moment"), "{e}");
+    // The error counts the particles with a positive weight: a third one
+    // 9.5 cells away is outside the support (|r| ≥ 1.5).
+    let mut three_out = [0.0; 3];
+    let points = [0.2, 0.8, 10.0].into_iter();
+    match cell_shape_functions(0.5, points, 1.0, 0.0, &mut three_out) {
+        Err(hompm::Error::SingularMoments {
+            points_in_support, ..
+        }) => assert_eq!(points_in_support, 2),
+        other => panic!("{other:?}"),
+    }
+    // A cell size of zero is refused as such, before any weight is taken.
+    let e = cell_shape_functions(0.5, [0.1, 0.5, 0.9].into_iter(), 0.0, 0.0, &mut three_out)
+        .unwrap_err();
+    assert!(e.to_string().contains("cell size"), "{e}");
     let three = [0.1, 0.5, 0.9];
     let mut out = [0.0; 3];
     for (x, h) in [
