@@ -305,3 +305,34 @@ fn a_step_of_the_code_s_mls_bsmpm_moves_each_particle_one_function_at_a_time() {
     }
     assert!(summed_first_differs > 0);
 }
+
+/// What the code's MLS reports and maps besides its fits: the largest
+/// κ₁ of the step's moment matrices (at least 1, at most the limit MLS
+/// refuses beyond), and a particle traction scattered by the grid's basis,
+/// Σ_i f_i^trac = Σ_p f_p^trac (partition of unity; no traction in the
+/// code's strip, so it is set here on one particle).
+#[test]
+fn the_code_s_mls_reports_its_largest_condition_and_maps_a_traction_by_the_basis() {
+    use hompm::mpm::mapping::Mapping;
+    let cells = 8;
+    let strip = parameters("mls-paper-code").unwrap().placed(cells);
+    let (dt, _) = strip.code_time_steps(cells);
+    let d = CodeSolver::MlsBsmpm(MlsWeights::Code).discretisation(cells, 5);
+    let mut sim = strip.simulation(&d).unwrap();
+    sim.particles.traction[7] = 2.5;
+    sim.step(dt).unwrap();
+    let ws = sim.workspace();
+    let total: f64 = ws.traction_force.iter().sum();
+    assert_relative_eq!(total, 2.5, max_relative = 1e-14);
+    assert!(ws.traction_force.iter().filter(|&&f| f != 0.0).count() >= 2);
+    let kappa = ws
+        .mapping
+        .reconstruction(Mapping::MlsCodeWeights)
+        .unwrap()
+        .largest_condition();
+    assert!((1.0..=1e12).contains(&kappa), "{kappa}");
+    assert!(
+        kappa > 10.0,
+        "an uncentred quadratic fit is not well conditioned: {kappa}"
+    );
+}
