@@ -329,28 +329,8 @@ fn the_strip_s_body_force_bound_holds_and_the_monitor_counts_its_work() {
     // With it the code's MLS_BSMPM, whose energy ½σεV grows because its
     // forces are h/2 too weak, runs to the code's end under `hompm run`
     // (the monitor stopped it at step 24 of 41 without the body force's work).
-    let out = hompm::cli::run([
-        "run",
-        "manufactured-strip",
-        "--method",
-        "bsmpm",
-        "--degree",
-        "3",
-        "--mapping",
-        "mls-code-weights",
-        "--mass",
-        "consistent",
-        "--scheme",
-        "usl",
-        "--cells",
-        "8",
-        "--ppc",
-        "5",
-        "--dt",
-        "5e-4",
-        "--steps",
-        "41",
-        "--json",
-    ]);
+    let mut args = super::spec_strip_mls::mls_code_args("run", "mls-code-weights", 8, 5e-4, 41);
+    args.push("--json".into());
+    let out = hompm::cli::run(&args);
     assert!(out.is_ok(), "{:?}", out.err());
 }

@@ -160,36 +160,29 @@ fn the_code_s_weights_make_its_acceleration_h_over_2_times_the_strip_s() {
     }
 }
 
+/// `hompm COMMAND manufactured-strip` with the flags of the code's
+/// MLS_BSMPM (cubic splines, consistent mass, USL, 5 PPC) and `mapping`.
+pub(super) fn mls_code_args(
+    command: &str,
+    mapping: &str,
+    cells: usize,
+    dt: f64,
+    steps: usize,
+) -> Vec<String> {
+    let flags = format!(
+        "{command} manufactured-strip --method bsmpm --degree 3 --mapping {mapping} \
+         --mass consistent --scheme usl --cells {cells} --ppc 5 --dt {dt} --steps {steps}"
+    );
+    flags.split_whitespace().map(String::from).collect()
+}
+
 fn check(mapping: &str, cells: usize) -> hompm::cli::Output {
     let input = fixture(&format!("strip-MLS_BSMPM-{cells}.csv"));
     let strip = parameters("mls-paper-code").unwrap().placed(cells);
     let (dt, steps) = strip.code_time_steps(cells);
-    let (cells, dt, steps) = (cells.to_string(), dt.to_string(), steps.to_string());
-    hompm::cli::run([
-        "check",
-        "manufactured-strip",
-        "--method",
-        "bsmpm",
-        "--degree",
-        "3",
-        "--mapping",
-        mapping,
-        "--mass",
-        "consistent",
-        "--scheme",
-        "usl",
-        "--cells",
-        &cells,
-        "--ppc",
-        "5",
-        "--dt",
-        &dt,
-        "--steps",
-        &steps,
-        "--input",
-        &input,
-    ])
-    .unwrap()
+    let mut args = mls_code_args("check", mapping, cells, dt, steps);
+    args.extend(["--input".to_string(), input]);
+    hompm::cli::run(&args).unwrap()
 }
 
 #[test]
