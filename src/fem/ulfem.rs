@@ -15,7 +15,7 @@
 //! Items: [`UlfemMaterial`], [`Ulfem`].
 
 use crate::error::{finite, Error, Result};
-use crate::mpm::musl::Constitutive;
+use crate::mpm::musl::{Constitutive, GravityRamp};
 
 /// Material and loading of a ULFEM run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,6 +28,10 @@ pub struct UlfemMaterial {
     pub constitutive: Constitutive,
     /// Gravitational acceleration along the axis.
     pub gravity: f64,
+    /// If set, gravity ramps as in the MPM step ([`GravityRamp`], read at
+    /// the ramp's time level): the dynamic reference of the column
+    /// compaction (TLS paper §6.2).
+    pub gravity_ramp: Option<GravityRamp>,
 }
 
 /// A 1D updated-Lagrangian P1 mesh.
@@ -46,6 +50,7 @@ pub struct Ulfem {
     young: f64,
     constitutive: Constitutive,
     gravity: f64,
+    gravity_ramp: Option<GravityRamp>,
     fixed: Vec<usize>,
     /// Current time.
     pub time: f64,
@@ -66,6 +71,7 @@ impl Ulfem {
             young,
             constitutive,
             gravity,
+            gravity_ramp,
         } = material;
         if constitutive == Constitutive::NeoHookean {
             return Err(Error::InvalidArgument(
@@ -103,6 +109,7 @@ impl Ulfem {
             young,
             constitutive,
             gravity,
+            gravity_ramp,
             fixed,
             time: 0.0,
         })
@@ -118,8 +125,12 @@ impl Ulfem {
             f[e] += *s;
             f[e + 1] -= *s;
         }
+        let g = match self.gravity_ramp {
+            Some(ramp) => self.gravity * ramp.fraction_at(ramp.read_time(self.time, dt)),
+            None => self.gravity,
+        };
         for ((v, fi), m) in self.v.iter_mut().zip(&f).zip(&self.mass) {
-            *v += dt * (fi + m * self.gravity) / m;
+            *v += dt * (fi + m * g) / m;
         }
         for &k in &self.fixed {
             self.v[k] = 0.0;

@@ -75,6 +75,11 @@ pub struct RunDiagnostics {
     /// max over steps of |1ᵀMv − Σ m_p v_p| / |Σ m_p v_p| (before boundary
     /// velocities are zeroed).
     pub max_momentum_error: f64,
+    /// The relative momentum error of the last projection whose particle
+    /// momentum was non-zero, for a caller that follows it step by step (tls-7: the maximum over steps
+    /// is attained where Σ m_p v_p passes near zero). Not in JSON.
+    #[serde(skip)]
+    pub last_momentum_error: f64,
     /// Number of times a particle crossed a gradient discontinuity.
     pub grid_crossings: usize,
     /// max over particles and steps of |ε_p|.
@@ -145,6 +150,7 @@ impl RunDiagnostics {
         if total_momentum != 0.0 {
             let e = (projection.grid_momentum - total_momentum).abs() / total_momentum.abs();
             self.max_momentum_error = self.max_momentum_error.max(e);
+            self.last_momentum_error = e;
         }
     }
 

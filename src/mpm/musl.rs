@@ -50,7 +50,7 @@ use super::diagnostics::RunDiagnostics;
 use super::grid::Grid;
 use super::mapping::{internal_force, project_velocity};
 use super::particles::Particles;
-pub use super::settings::{BodyForceField, Constitutive, Settings};
+pub use super::settings::{BodyForceField, Constitutive, GravityRamp, RampTimeLevel, Settings};
 pub use super::workspace::StepWorkspace;
 pub use manufactured::neo_hookean_1d;
 
@@ -184,8 +184,17 @@ impl Simulation {
     /// ramp time t_ramp > 0, else g (no ramp, or t_ramp ≤ 0).
     pub fn gravity_at(&self, t: f64) -> f64 {
         match self.settings.gravity_ramp {
-            Some(t_ramp) if t_ramp > 0.0 => self.settings.gravity * (t / t_ramp).min(1.0),
-            _ => self.settings.gravity,
+            Some(ramp) => self.settings.gravity * ramp.fraction_at(t),
+            None => self.settings.gravity,
+        }
+    }
+
+    /// The gravity that loads the step of size Δt starting now: g(tⁿ), or
+    /// g(tⁿ⁺¹) for a ramp read at the step's end ([`GravityRamp::read_time`]).
+    pub fn gravity_in_step(&self, dt: f64) -> f64 {
+        match self.settings.gravity_ramp {
+            Some(ramp) => self.gravity_at(ramp.read_time(self.time, dt)),
+            None => self.settings.gravity,
         }
     }
 
@@ -220,7 +229,7 @@ impl Simulation {
         let conventions = self.settings.conventions;
         let other_code = conventions.needs_grid_velocity();
         self.evaluate_basis_at_particles()?;
-        self.map_mass_and_loads()?;
+        self.map_mass_and_loads(dt)?;
         observer.observe(StepPoint::MassAndLoads, self)?;
         if other_code {
             self.map_grid_velocity();
@@ -301,11 +310,11 @@ impl Simulation {
     /// Step 1, book Eq. (4.5) and thesis §3.2: the lumped mass
     /// m_i = Σ_p m_p φ_i(x_p), and the gravity and traction loads
     /// Σ_p m_p g φ_i(x_p) and Σ_p f_p^trac φ_i(x_p).
-    fn map_mass_and_loads(&mut self) -> Result<()> {
+    fn map_mass_and_loads(&mut self, dt: f64) -> Result<()> {
         if self.through_reconstruction() {
-            return self.map_mass_and_loads_through_reconstruction();
+            return self.map_mass_and_loads_through_reconstruction(dt);
         }
-        let g = self.gravity_at(self.time);
+        let g = self.gravity_in_step(dt);
         let (p, ws) = (&self.particles, &mut self.workspace);
         for v in [&mut ws.mass, &mut ws.gravity_force, &mut ws.traction_force] {
             v.fill(0.0);

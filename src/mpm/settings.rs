@@ -8,7 +8,7 @@
 //! fit's cell average, and the conventions of other codes
 //! ([`super::conventions`]).
 //!
-//! Items: [`Constitutive`], [`BodyForceField`], [`Settings`].
+//! Items: [`Constitutive`], [`BodyForceField`], [`GravityRamp`], [`RampTimeLevel`], [`Settings`].
 
 use super::conventions::Conventions;
 use super::mapping::{Mapping, MassMatrix};
@@ -89,9 +89,10 @@ pub struct Settings {
     /// solution's). Not printed when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub body_force: Option<BodyForceField>,
-    /// If set, gravity ramps linearly from 0 to `gravity` over this time and
-    /// then stays (the body force of the column compaction, TLS paper §6.2).
-    pub gravity_ramp: Option<f64>,
+    /// If set, gravity ramps linearly from 0 to `gravity` over the ramp's
+    /// duration and then stays (the body force of the column compaction,
+    /// TLS paper §6.2).
+    pub gravity_ramp: Option<GravityRamp>,
     /// DOFs with homogeneous Dirichlet conditions.
     pub dirichlet: Vec<usize>,
     /// Solve step 2 with the material-point consistent mass M^C = Σ m_p φφᵀ
@@ -106,6 +107,69 @@ pub struct Settings {
     /// unless another code's are asked for). Not printed when the book's.
     #[serde(skip_serializing_if = "Conventions::is_book")]
     pub conventions: Conventions,
+}
+
+/// When in a step of size Δt from tⁿ a ramped gravity is evaluated. TLS
+/// paper Eq. (10) writes the external force at tⁿ ([`RampTimeLevel::StepStart`],
+/// hompm's default); a code that advances its clock before it loads the
+/// grid evaluates it at tⁿ⁺¹ ([`RampTimeLevel::StepEnd`]). The two differ
+/// by one step of the ramp, and the compaction's stress errors by up to
+/// 11 % (docs/conventions.md, "The time level of a ramped body force").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RampTimeLevel {
+    /// g(tⁿ): TLS paper Eq. (10), (f^ext)^t.
+    #[default]
+    StepStart,
+    /// g(tⁿ + Δt).
+    StepEnd,
+}
+
+impl RampTimeLevel {
+    fn is_step_start(&self) -> bool {
+        *self == RampTimeLevel::StepStart
+    }
+}
+
+/// A gravity ramped linearly from 0 to its full value over `duration`, then
+/// held: g(t) = g·min(t/duration, 1) (TLS paper §6.2, "the body force
+/// increases linearly with time").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GravityRamp {
+    /// The ramp's duration (TLS paper Table 6: the run's 0.5 s).
+    pub duration: f64,
+    /// When in a step the ramp is read. Not printed when at the step's start.
+    #[serde(skip_serializing_if = "RampTimeLevel::is_step_start")]
+    pub time_level: RampTimeLevel,
+}
+
+impl GravityRamp {
+    /// A ramp over `duration`, read at the start of each step (TLS paper
+    /// Eq. 10).
+    pub fn over(duration: f64) -> Self {
+        Self {
+            duration,
+            time_level: RampTimeLevel::StepStart,
+        }
+    }
+
+    /// The fraction min(t/duration, 1) of the full gravity at time t (1 for
+    /// a duration ≤ 0: no ramp).
+    pub fn fraction_at(&self, t: f64) -> f64 {
+        if self.duration > 0.0 {
+            (t / self.duration).min(1.0)
+        } else {
+            1.0
+        }
+    }
+
+    /// The time at which a step of size Δt from tⁿ reads the ramp.
+    pub fn read_time(&self, step_start: f64, dt: f64) -> f64 {
+        match self.time_level {
+            RampTimeLevel::StepStart => step_start,
+            RampTimeLevel::StepEnd => step_start + dt,
+        }
+    }
 }
 
 fn is_zero(v: &f64) -> bool {

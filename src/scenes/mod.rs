@@ -91,7 +91,7 @@ impl Discretisation {
             poisson: 0.0,
             gravity,
             body_force: None,
-            gravity_ramp,
+            gravity_ramp: gravity_ramp.map(crate::mpm::musl::GravityRamp::over),
             dirichlet,
             consistent_acceleration: false,
             tls_density_average: crate::reconstruct::taylor::CellAverage::Exact,

@@ -11,6 +11,8 @@
 //! [`ConservationByMethod`], [`conservation_by_mapping`],
 //! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
 //! [`compaction`], [`compactions`], [`compaction_uncached`], [`compaction_with_average`],
+//! [`compaction_simulation`], [`compaction_start`], [`COMPACTION_DT`], [`COMPACTION_STEPS`],
+//! [`compaction_dynamic_reference`],
 //! [`TABLE_8_SUBPOINTS`],
 //! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`],
 //! [`stress_errors_against_ulfem`].
@@ -21,6 +23,7 @@ use crate::fem::ulfem::{Ulfem, UlfemMaterial};
 use crate::mpm::diagnostics::relative_l2_error;
 use crate::mpm::grid::Method;
 use crate::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+use crate::mpm::musl::{GravityRamp, RampTimeLevel, Simulation};
 use crate::reconstruct::taylor::CellAverage;
 use crate::scenes::{column, vibrating_bar, Discretisation};
 use rayon::prelude::*;
@@ -265,16 +268,8 @@ pub fn compaction_with_average(
     mapping: Mapping,
     average: CellAverage,
 ) -> Result<CompactionRun> {
+    let sim = compaction_simulation(method, mapping, average, RampTimeLevel::StepStart)?;
     let p = column::parameters("tls-table-6")?;
-    let mut sim = p.simulation(&Discretisation::new(
-        method,
-        mapping,
-        mass_for(mapping),
-        50,
-        20,
-    ))?;
-    sim.settings.tls_density_average = average;
-    sim.run(1e-4, 5000)?;
     let exact: Vec<f64> = sim
         .particles
         .x0
@@ -292,6 +287,73 @@ pub fn compaction_with_average(
             .iter()
             .fold(0.0, |a: f64, u| a.max(u.abs())),
     })
+}
+
+/// The compaction of TLS paper Table 6 (50 elements, 20 PPC, Δt = 1e-4 s,
+/// 0.5 s, [`mass_for`] the mapping) run to its end, with the TLS density
+/// average `average` and the ramp read at `time_level`
+/// (docs/conventions.md, "The time level of a ramped body force"): the
+/// simulation, for a caller that needs more than [`CompactionRun`].
+pub fn compaction_simulation(
+    method: Method,
+    mapping: Mapping,
+    average: CellAverage,
+    time_level: RampTimeLevel,
+) -> Result<Simulation> {
+    let mut sim = compaction_start(method, mapping)?;
+    sim.settings.tls_density_average = average;
+    if let Some(ramp) = sim.settings.gravity_ramp.as_mut() {
+        ramp.time_level = time_level;
+    }
+    sim.run(COMPACTION_DT, COMPACTION_STEPS)?;
+    Ok(sim)
+}
+
+/// The compaction's time step, TLS paper §6.2: 1e-4 s.
+pub const COMPACTION_DT: f64 = 1e-4;
+/// Its number of steps: 5000 (0.5 s).
+pub const COMPACTION_STEPS: usize = 5000;
+
+/// The compaction of TLS paper Table 6 before its first step (50 elements,
+/// 20 PPC, [`mass_for`] the mapping, the ramp read at the step's start).
+pub fn compaction_start(method: Method, mapping: Mapping) -> Result<Simulation> {
+    column::parameters("tls-table-6")?.simulation(&Discretisation::new(
+        method,
+        mapping,
+        mass_for(mapping),
+        50,
+        20,
+    ))
+}
+
+/// The compaction of TLS paper Table 6 as a converged *dynamic* solution:
+/// a ULFEM column of `elements` elements with the same law, the same ramp
+/// read at `time_level`, and time step `dt`, run to 0.5 s. The paper
+/// compares with the quasi-static ρ₀b(H − X) (Bardenhagen and Kober); the
+/// difference between the two is the ramp's own dynamic remainder, which
+/// no method should be charged with (docs/reproduction-notes.md, tls-fig10).
+pub fn compaction_dynamic_reference(
+    elements: usize,
+    dt: f64,
+    time_level: RampTimeLevel,
+) -> Result<Ulfem> {
+    let p = column::parameters("tls-table-6")?;
+    let material = UlfemMaterial {
+        density: p.density,
+        young: p.young,
+        constitutive: p.constitutive,
+        gravity: p.gravity,
+        gravity_ramp: p.ramp_time.map(|duration| GravityRamp {
+            duration,
+            time_level,
+        }),
+    };
+    let mut column = Ulfem::new(p.height, elements, material, |_| 0.0, vec![0])?;
+    let steps = (COMPACTION_DT * COMPACTION_STEPS as f64 / dt).round() as usize;
+    for _ in 0..steps {
+        column.step(dt)?;
+    }
+    Ok(column)
 }
 
 /// The subpoint counts of TLS paper Table 8.
@@ -378,6 +440,7 @@ pub fn stress_errors_against_ulfem(
         young: p.young,
         constitutive: p.constitutive,
         gravity: 0.0,
+        gravity_ramp: None,
     };
     let mut reference = Ulfem::new(
         p.length,

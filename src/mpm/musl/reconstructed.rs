@@ -44,10 +44,10 @@ impl Simulation {
     /// sums of the fits' mass matrix, which is also assembled with
     /// `--mass consistent`), the momentum p_i, the body force and gravity
     /// through the fits, and the traction Σ_p f_p φ_i from the particles.
-    pub(super) fn map_mass_and_loads_through_reconstruction(&mut self) -> Result<()> {
+    pub(super) fn map_mass_and_loads_through_reconstruction(&mut self, dt: f64) -> Result<()> {
         let consistent = matches!(self.settings.mass, MassMatrix::Consistent(_));
         let mapping = self.settings.velocity_mapping;
-        let (g, t) = (self.gravity_at(self.time), self.time);
+        let (g, t) = (self.gravity_in_step(dt), self.time);
         let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
         assemble_projection(grid, p, &ws.stencils, mapping, consistent, &mut ws.mapping)?;
         ws.mass.copy_from_slice(&ws.mapping.lumped);

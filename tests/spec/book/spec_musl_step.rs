@@ -15,7 +15,7 @@
 use approx::assert_relative_eq;
 use hompm::mpm::grid::{Grid, Method};
 use hompm::mpm::mapping::{Mapping, MassMatrix};
-use hompm::mpm::musl::{Constitutive, Settings, Simulation};
+use hompm::mpm::musl::{Constitutive, GravityRamp, RampTimeLevel, Settings, Simulation};
 use hompm::mpm::particles::Particles;
 
 const DT: f64 = 0.1;
@@ -154,17 +154,46 @@ fn thesis_3_2_traction_on_every_particle_is_mapped() {
 #[test]
 fn gravity_ramps_linearly_up_to_its_full_value() {
     let ramped = two_particles_configured(Constitutive::SmallStrain, |_, s| {
-        s.gravity_ramp = Some(2.0);
+        s.gravity_ramp = Some(GravityRamp::over(2.0));
     });
     assert_eq!(ramped.gravity_at(0.5), -0.25);
     assert_eq!(ramped.gravity_at(2.0), -1.0);
     assert_eq!(ramped.gravity_at(3.0), -1.0);
     for ramp in [None, Some(0.0), Some(-1.0)] {
         let sim = two_particles_configured(Constitutive::SmallStrain, |_, s| {
-            s.gravity_ramp = ramp;
+            s.gravity_ramp = ramp.map(GravityRamp::over);
         });
         assert_eq!(sim.gravity_at(0.5), -1.0, "{ramp:?}");
     }
+}
+
+/// TLS paper Eq. (10) loads the step from tⁿ with (f^ext)^t: a ramp read at
+/// the step's start gives the first step no gravity at all, one read at its
+/// end gives it g(Δt) = g·Δt/t_ramp, and the nodal gravity force of the
+/// step is Σ_p m_p g φ_i with that g.
+#[test]
+fn a_ramp_loads_the_step_at_its_start_unless_read_at_its_end() {
+    let first_step_force = |time_level| {
+        let sim = two_particles_configured(Constitutive::SmallStrain, |_, s| {
+            s.gravity_ramp = Some(GravityRamp {
+                duration: 2.0,
+                time_level,
+            });
+        });
+        let total_mass: f64 = sim.particles.mass.iter().sum();
+        let force: f64 = sim.workspace().gravity_force.iter().sum();
+        (force, total_mass, sim.gravity_in_step(DT))
+    };
+    let (start, mass, next_start) = first_step_force(RampTimeLevel::StepStart);
+    assert_eq!(start, 0.0);
+    assert!((next_start - (-DT / 2.0)).abs() < 1e-15, "{next_start}");
+    let (end, _, next_end) = first_step_force(RampTimeLevel::StepEnd);
+    assert!(
+        (end - mass * (-DT / 2.0)).abs() < 1e-14,
+        "{end} vs {}",
+        mass * -DT / 2.0
+    );
+    assert!((next_end - (-2.0 * DT / 2.0)).abs() < 1e-15, "{next_end}");
 }
 
 /// The particle arrays are public, so a caller may replace the particles

@@ -12,6 +12,7 @@ fn bar_error(elements: usize) -> f64 {
         young: p.young,
         constitutive: Constitutive::SmallStrain,
         gravity: 0.0,
+        gravity_ramp: None,
     };
     let mut ul = Ulfem::new(
         p.length,
@@ -53,6 +54,7 @@ fn ulfem_rejects_bad_input() {
         young: 1.0,
         constitutive: Constitutive::SmallStrain,
         gravity: 0.0,
+        gravity_ramp: None,
     };
     let refused = |r: hompm::Result<Ulfem>, needle: &str| match r {
         Err(hompm::Error::InvalidArgument(msg)) => assert!(msg.contains(needle), "{msg}"),
