@@ -5,6 +5,12 @@
 //! second; ns per particle-step = 1e9 / throughput, and hompm/lean is the
 //! issue's ratio (target ≤ 1.4).
 //!
+//! Three hompm variants show what the monitors cost: the step as every
+//! scene runs it (its `RunDiagnostics` on), the same step watched by the
+//! stability monitor after every step (what `hompm run` does), and the step
+//! with its diagnostics off (`Simulation::without_diagnostics`, the same
+//! numbers).
+//!
 //! Run with `cargo bench --bench lean_p1`. One thread.
 
 #[path = "lean/p1.rs"]
@@ -12,6 +18,7 @@ mod p1;
 
 use divan::counter::ItemsCount;
 use hompm::mpm::grid::Method;
+use hompm::mpm::monitor::StabilityMonitor;
 use hompm::scenes::{vibrating_bar, Discretisation};
 use p1::LeanP1;
 
@@ -42,6 +49,39 @@ fn hompm_step(bencher: divan::Bencher, cells: usize) {
     bencher
         .counter(ItemsCount::new(cells * PPC * n))
         .with_inputs(|| simulation(cells))
+        .bench_local_values(|mut sim| {
+            for _ in 0..n {
+                sim.step(DT).expect("stable");
+            }
+            sim
+        });
+}
+
+#[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]
+fn hompm_step_watched(bencher: divan::Bencher, cells: usize) {
+    let n = steps(cells);
+    bencher
+        .counter(ItemsCount::new(cells * PPC * n))
+        .with_inputs(|| {
+            let sim = simulation(cells);
+            let monitor = StabilityMonitor::new(&sim, DT).expect("monitor");
+            (sim, monitor)
+        })
+        .bench_local_values(|(mut sim, mut monitor)| {
+            for _ in 0..n {
+                sim.step(DT).expect("stable");
+                monitor.check(&sim).expect("within budget");
+            }
+            sim
+        });
+}
+
+#[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]
+fn hompm_step_without_diagnostics(bencher: divan::Bencher, cells: usize) {
+    let n = steps(cells);
+    bencher
+        .counter(ItemsCount::new(cells * PPC * n))
+        .with_inputs(|| simulation(cells).without_diagnostics())
         .bench_local_values(|mut sim| {
             for _ in 0..n {
                 sim.step(DT).expect("stable");

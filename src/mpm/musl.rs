@@ -54,7 +54,9 @@ pub use super::settings::{BodyForceField, Constitutive, GravityRamp, RampTimeLev
 pub use super::workspace::StepWorkspace;
 pub use manufactured::neo_hookean_1d;
 
+mod loads;
 mod manufactured;
+mod monitors;
 mod other_codes;
 mod physical;
 mod reconstructed;
@@ -135,6 +137,9 @@ pub struct Simulation {
     pub time: f64,
     /// Accumulated monitors.
     pub diagnostics: RunDiagnostics,
+    /// Whether a step records [`RunDiagnostics`] (true unless turned off
+    /// with [`Simulation::without_diagnostics`]).
+    records_diagnostics: bool,
     workspace: StepWorkspace,
 }
 
@@ -176,26 +181,9 @@ impl Simulation {
             settings,
             time: 0.0,
             diagnostics,
+            records_diagnostics: true,
             workspace,
         })
-    }
-
-    /// The gravitational acceleration at time t: g·min(t/t_ramp, 1) with a
-    /// ramp time t_ramp > 0, else g (no ramp, or t_ramp ≤ 0).
-    pub fn gravity_at(&self, t: f64) -> f64 {
-        match self.settings.gravity_ramp {
-            Some(ramp) => self.settings.gravity * ramp.fraction_at(t),
-            None => self.settings.gravity,
-        }
-    }
-
-    /// The gravity that loads the step of size Δt starting now: g(tⁿ), or
-    /// g(tⁿ⁺¹) for a ramp read at the step's end ([`GravityRamp::read_time`]).
-    pub fn gravity_in_step(&self, dt: f64) -> f64 {
-        match self.settings.gravity_ramp {
-            Some(ramp) => self.gravity_at(ramp.read_time(self.time, dt)),
-            None => self.settings.gravity,
-        }
     }
 
     /// Kinetic plus strain energy Σ_p ½ m_p v_p² + ½ σ_p ε_p V_p of the
@@ -268,18 +256,23 @@ impl Simulation {
             self.update_volumes_and_densities();
             observer.observe(StepPoint::VolumeAndDensity, self)?;
         }
-        self.record_particle_monitors();
+        if self.records_diagnostics {
+            self.record_particle_monitors();
+        }
         self.time += dt;
         self.diagnostics.steps += 1;
         self.check_particles_are_physical()
     }
 
-    /// `steps` steps of size dt; the final energy is recorded.
+    /// `steps` steps of size dt; the final energy is recorded (unless the
+    /// diagnostics are off).
     pub fn run(&mut self, dt: f64, steps: usize) -> Result<()> {
         for _ in 0..steps {
             self.step(dt)?;
         }
-        self.diagnostics.final_energy = energy(&self.particles);
+        if self.records_diagnostics {
+            self.diagnostics.final_energy = energy(&self.particles);
+        }
         Ok(())
     }
 
@@ -296,10 +289,14 @@ impl Simulation {
             ws.counted_at.resize(p.len(), f64::NAN);
         }
         grid.fill_stencils(&p.x, |&x| x, &mut ws.stencils, &mut ws.scratch)?;
-        for k in 0..p.len() {
-            if ws.counted_at[k] != p.x[k] {
-                ws.breaks_before[k] = grid.breaks_at_or_below(p.x[k]);
-                ws.counted_at[k] = p.x[k];
+        // The crossing monitor's state (with the diagnostics on): the
+        // breaks below each particle that moved since it was counted.
+        if self.records_diagnostics {
+            for k in 0..p.len() {
+                if ws.counted_at[k] != p.x[k] {
+                    ws.breaks_before[k] = grid.breaks_at_or_below(p.x[k]);
+                    ws.counted_at[k] = p.x[k];
+                }
             }
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
@@ -372,7 +369,9 @@ impl Simulation {
                     (ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i]) / m;
             }
         }
-        self.diagnostics.record_lumped_masses(&ws.mass);
+        if self.records_diagnostics {
+            self.diagnostics.record_lumped_masses(&ws.mass);
+        }
         if self.settings.consistent_acceleration {
             self.consistent_nodal_acceleration()?;
         }
@@ -438,8 +437,6 @@ impl Simulation {
     /// and velocity extremes.
     fn project_nodal_velocities(&mut self) -> Result<()> {
         let p = &self.particles;
-        let total_mass = p.total_mass();
-        let total_momentum = p.total_momentum();
         let ws = &mut self.workspace;
         let proj = project_velocity(
             &self.grid,
@@ -449,6 +446,11 @@ impl Simulation {
             self.settings.mass,
             &mut ws.mapping,
         )?;
+        if !self.records_diagnostics {
+            return Ok(());
+        }
+        let total_mass = p.total_mass();
+        let total_momentum = p.total_momentum();
         self.diagnostics.record_projection(
             &proj,
             &ws.mapping.velocity,
@@ -536,7 +538,7 @@ impl Simulation {
         }
     }
 
-    /// The per-particle monitors, recorded in [`RunDiagnostics`]: the largest
+    /// The per-particle monitors, recorded in [`RunDiagnostics`](crate::mpm::diagnostics::RunDiagnostics): the largest
     /// |ε_p| and the grid crossings
     /// of this step, |N(x_p^{t+Δt}) − N(x_p^t)| with N(x) the number of
     /// gradient breaks at or below x (thesis §3.3).

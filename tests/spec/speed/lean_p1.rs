@@ -31,3 +31,38 @@ fn the_lean_p1_step_computes_bit_for_bit_what_hompm_s_step_computes() {
     assert_eq!(lean.strain, q.strain);
     assert!(q.displacement.iter().any(|u| u.abs() > 1e-6));
 }
+
+/// `Simulation::without_diagnostics` times the step without its monitors
+/// (benches/lean_p1.rs): the particles evolve bit for bit as with them on,
+/// for P1 and for consistent-mass B-splines with a spline mapping, and
+/// nothing is recorded but the step count.
+#[test]
+fn turning_the_diagnostics_off_changes_no_particle_and_records_nothing() {
+    use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+    let p = vibrating_bar::parameters("thesis-table-4.2").unwrap();
+    for d in [
+        Discretisation::direct(Method::Mpm, 16, 4),
+        Discretisation::new(
+            Method::Bsmpm { degree: 2 },
+            Mapping::CubicSpline,
+            MassMatrix::Consistent(ConsistentSolver::Cholesky),
+            16,
+            4,
+        ),
+    ] {
+        let mut on = p.simulation(&d).unwrap();
+        let mut off = p.simulation(&d).unwrap().without_diagnostics();
+        assert!(on.records_diagnostics() && !off.records_diagnostics());
+        on.run(1e-5, 300).unwrap();
+        off.run(1e-5, 300).unwrap();
+        assert_eq!(on.particles, off.particles);
+        assert!(on.diagnostics.max_particle_velocity > 0.0);
+        assert!(on.diagnostics.final_energy > 0.0);
+        assert_eq!(off.diagnostics.steps, 300);
+        assert_eq!(off.diagnostics.max_particle_velocity, 0.0);
+        assert_eq!(off.diagnostics.max_mass_error, 0.0);
+        assert_eq!(off.diagnostics.max_abs_strain, 0.0);
+        assert_eq!(off.diagnostics.final_energy, 0.0);
+        assert_eq!(off.diagnostics.min_lumped_mass, f64::INFINITY);
+    }
+}
