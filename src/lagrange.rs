@@ -191,6 +191,46 @@ impl LagrangeBasis {
     }
 }
 
+impl LagrangeBasis {
+    /// [`LagrangeBasis::evaluate_into`] with the stencil width W = degree + 1
+    /// known at compile time, for the step's batch fill
+    /// (`mpm::grid::Grid::fill_stencils`): the same operations in the same
+    /// order, so the same numbers bit for bit, without the width's slicing
+    /// and the order's branch per point. `None` if W is not this basis'
+    /// width (the caller then takes [`LagrangeBasis::evaluate_into`]).
+    #[inline(always)]
+    pub fn evaluate_fixed<const W: usize>(
+        &self,
+        x: f64,
+        values: &mut [f64; W],
+        gradients: &mut [f64; W],
+    ) -> Option<Result<usize>> {
+        if W != self.order.degree() + 1 {
+            return None;
+        }
+        let k = match self.element_of(x) {
+            Ok(k) => k,
+            Err(e) => return Some(Err(e)),
+        };
+        let h = self.h;
+        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        if W == 2 {
+            values[0] = 1.0 - xi;
+            values[1] = xi;
+            gradients[0] = -self.inverse_h;
+            gradients[1] = self.inverse_h;
+        } else {
+            values[0] = 2.0 * xi * xi - 3.0 * xi + 1.0;
+            values[1] = -4.0 * xi * xi + 4.0 * xi;
+            values[2] = 2.0 * xi * xi - xi;
+            gradients[0] = (4.0 * xi - 3.0) / h;
+            gradients[1] = (-8.0 * xi + 4.0) / h;
+            gradients[2] = (4.0 * xi - 1.0) / h;
+        }
+        Some(Ok(self.order.degree() * k))
+    }
+}
+
 impl Basis1d for LagrangeBasis {
     fn num_basis(&self) -> usize {
         self.order.degree() * self.elements + 1

@@ -38,6 +38,7 @@
 //!
 //! Items: [`Shape`], [`Grid`].
 
+mod fill;
 use super::conventions::Knots;
 pub use super::method::{Method, MethodFamily, NodeIntegrals, METHOD_FAMILIES};
 use crate::basis::{with_width, Basis1d, Stencils};
@@ -46,6 +47,7 @@ use crate::lagrange::{LagrangeBasis, LagrangeOrder};
 use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
 use crate::spline::{KnotVector, NaturalSplines};
+use fill::{fill_bspline_stencils, fill_lagrange_stencils};
 
 /// Values and (possibly modified) gradients of the basis at one point, over
 /// the index range `first .. first + values.len()`.
@@ -487,11 +489,10 @@ impl Grid {
             );
         }
         if let (GridBasis::Lagrange(l), None) = (&self.basis, &self.dual) {
-            for (k, point) in points.iter().enumerate() {
-                let (v, g) = stencils.slots_mut(k);
-                stencils.first[k] = l.evaluate_into(coordinate(point), v, g)?;
-            }
-            return Ok(());
+            return with_width!(
+                stencils.width(),
+                fill_lagrange_stencils::<W>(l, points.iter().map(coordinate), stencils)
+            );
         }
         for (k, point) in points.iter().enumerate() {
             let (v, g) = stencils.slots_mut(k);
@@ -517,36 +518,6 @@ impl Grid {
             gradients: s.gradients,
         })
     }
-}
-
-/// [`Grid::fill_stencils`] on a B-spline grid of width `W` = p + 1 (0: any
-/// width): [`KnotVector::values_and_gradients_fixed`] at every point, the
-/// same numbers as [`Grid::evaluate`].
-fn fill_bspline_stencils<const W: usize>(
-    kv: &KnotVector,
-    xs: impl Iterator<Item = f64>,
-    stencils: &mut Stencils,
-    scratch: &mut SpanScratch,
-) -> Result<()> {
-    if W == 0 {
-        for (k, x) in xs.enumerate() {
-            let (v, g) = stencils.slots_mut(k);
-            stencils.first[k] = kv.values_and_gradients_into(x, scratch, v, g)?;
-        }
-        return Ok(());
-    }
-    let Stencils {
-        first,
-        values,
-        gradients,
-        ..
-    } = stencils;
-    let rows = values.as_chunks_mut::<W>().0.iter_mut();
-    let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
-    for ((x, f), (v, g)) in xs.zip(first.iter_mut()).zip(rows) {
-        *f = kv.values_and_gradients_fixed::<W>(x, v, g)?;
-    }
-    Ok(())
 }
 
 /// DDMPM, TLS paper §3.3, on P1 element k with values φ_k, φ_{k+1} and

@@ -545,14 +545,14 @@ impl Simulation {
     fn record_particle_monitors(&mut self) {
         let (p, ws) = (&self.particles, &mut self.workspace);
         let mut crossings = 0;
-        for k in 0..p.len() {
-            let before = ws.breaks_before[k];
-            if !self.grid.breaks_at_or_below_is(before, p.x[k]) {
-                let after = self.grid.breaks_at_or_below(p.x[k]);
-                crossings += after.abs_diff(before);
-                ws.breaks_before[k] = after;
+        let counted = ws.breaks_before.iter_mut().zip(&mut ws.counted_at);
+        for ((before, at), &x) in counted.zip(&p.x) {
+            if !self.grid.breaks_at_or_below_is(*before, x) {
+                let after = self.grid.breaks_at_or_below(x);
+                crossings += after.abs_diff(*before);
+                *before = after;
             }
-            ws.counted_at[k] = p.x[k];
+            *at = x;
         }
         self.diagnostics.record_particles(&p.strain, crossings);
     }
