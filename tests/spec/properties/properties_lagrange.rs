@@ -80,6 +80,15 @@ fn lagrange_rejects_bad_input() {
     let b = LagrangeBasis::new(0.0, 1.0, 3, LagrangeOrder::Quadratic).unwrap();
     assert!(b.local(1.01, 0).is_err());
     assert!(b.local(f64::NAN, 0).is_err());
+    let (mut v, mut g) = ([0.0; 3], [0.0; 3]);
+    assert!(matches!(
+        b.evaluate_fixed::<3>(1.01, &mut v, &mut g),
+        Some(Err(_))
+    ));
+    assert!(matches!(
+        b.evaluate_fixed::<3>(f64::NAN, &mut v, &mut g),
+        Some(Err(_))
+    ));
     assert_eq!(b.num_basis(), 7);
     assert_eq!(
         KnotVector::open_uniform(0.0, 1.0, 3, 2)
@@ -115,6 +124,20 @@ proptest! {
         let first = basis.evaluate_into(x, &mut values, &mut gradients).unwrap();
         let w = basis.degree() + 1;
         prop_assert_eq!(first, local.first);
+        // The step's batch fill: the width fixed at compile time, the same
+        // bits; a width the basis does not have is declined.
+        let (mut v2, mut g2, mut v3, mut g3) = ([0.0; 2], [0.0; 2], [0.0; 3], [0.0; 3]);
+        let fixed2 = basis.evaluate_fixed::<2>(x, &mut v2, &mut g2);
+        let fixed3 = basis.evaluate_fixed::<3>(x, &mut v3, &mut g3);
+        let (fixed, other, fv, fg) = if quadratic {
+            (fixed3, fixed2, &v3[..], &g3[..])
+        } else {
+            (fixed2, fixed3, &v2[..], &g2[..])
+        };
+        prop_assert!(other.is_none());
+        prop_assert_eq!(fixed.unwrap().unwrap(), first);
+        prop_assert_eq!(fv.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), values[..w].iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        prop_assert_eq!(fg.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), gradients[..w].iter().map(|v| v.to_bits()).collect::<Vec<_>>());
         prop_assert_eq!(&values[..w], local.values());
         prop_assert_eq!(&gradients[..w], &local.derivatives[1][..]);
         // Second derivatives: N̂'' = (4, −8, 4) for P2 and 0 for P1, over h²,
