@@ -10,7 +10,7 @@
 //!   (thesis §3.3, §6.2);
 //! - maximal strain, lumped-mass sign, and energy.
 //!
-//! Items: [`rms_error`], [`relative_l2_error`], [`RunDiagnostics`].
+//! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`], [`RunDiagnostics`].
 
 use super::mapping::Projection;
 use crate::error::{Error, Result};
@@ -25,6 +25,27 @@ pub fn rms_error(computed: &[f64], reference: &[f64]) -> Result<f64> {
         .map(|(a, b)| (a - b) * (a - b))
         .sum();
     Ok((s / computed.len() as f64).sqrt())
+}
+
+/// Σ values by Neumaier's compensated summation: the rounding of the sum
+/// itself stays at about one ulp of the result, whatever the count, so a
+/// conservation monitor that subtracts two such sums sees the mapping's
+/// rounding, not its own (the 2D step's mass and momentum monitor; a naive
+/// sum of the 36 864 equal particle masses of 64 × 64 cells at 9 PPC errs
+/// by 6.7e-13 relative, the largest "mapping error" the convergence study
+/// had measured).
+pub fn compensated_sum(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (mut sum, mut correction) = (0.0f64, 0.0f64);
+    for v in values {
+        let t = sum + v;
+        correction += if sum.abs() >= v.abs() {
+            (sum - t) + v
+        } else {
+            (v - t) + sum
+        };
+        sum = t;
+    }
+    sum + correction
 }
 
 /// Relative L2 error ‖c − r‖₂ / ‖r‖₂.

@@ -36,6 +36,7 @@ use super::workspace::{Conservation2d, StepWorkspace2d};
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
+use crate::mpm::diagnostics::compensated_sum;
 
 mod other_codes;
 use nalgebra::Matrix2;
@@ -291,24 +292,26 @@ fn scatter_gauss_point(
 }
 
 pub(super) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
-    let particle_mass = p.total_mass();
-    let grid_mass: f64 = ws.mass.iter().sum();
-    let pm = p.total_momentum();
-    let scale: f64 = p
-        .mass
-        .iter()
-        .zip(&p.velocity)
-        .map(|(m, v)| m * (v[0] * v[0] + v[1] * v[1]).sqrt())
-        .sum();
-    let gm = ws
-        .momentum
-        .iter()
-        .fold([0.0; 2], |s, m| [s[0] + m[0], s[1] + m[1]]);
+    // Compensated sums on both sides, so that the monitor measures the
+    // mapping's rounding and not that of its own sums.
+    let particle_mass = compensated_sum(p.mass.iter().copied());
+    let grid_mass = compensated_sum(ws.mass.iter().copied());
+    let scale = compensated_sum(
+        p.mass
+            .iter()
+            .zip(&p.velocity)
+            .map(|(m, v)| m * (v[0] * v[0] + v[1] * v[1]).sqrt()),
+    );
+    let component = |d: usize| {
+        let particles = compensated_sum(p.mass.iter().zip(&p.velocity).map(|(m, v)| m * v[d]));
+        let grid = compensated_sum(ws.momentum.iter().map(|m| m[d]));
+        grid - particles
+    };
     c.mass = c
         .mass
         .max((grid_mass - particle_mass).abs() / particle_mass);
     if scale > 0.0 {
-        c.momentum = c.momentum.max((gm[0] - pm[0]).hypot(gm[1] - pm[1]) / scale);
+        c.momentum = c.momentum.max(component(0).hypot(component(1)) / scale);
     }
 }
 

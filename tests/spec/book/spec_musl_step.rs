@@ -159,7 +159,7 @@ fn gravity_ramps_linearly_up_to_its_full_value() {
     assert_eq!(ramped.gravity_at(0.5), -0.25);
     assert_eq!(ramped.gravity_at(2.0), -1.0);
     assert_eq!(ramped.gravity_at(3.0), -1.0);
-    for ramp in [None, Some(0.0), Some(-1.0)] {
+    for ramp in [None, Some(0.0), Some(-0.0), Some(-1.0)] {
         let sim = two_particles_configured(Constitutive::SmallStrain, |_, s| {
             s.gravity_ramp = ramp.map(GravityRamp::over);
         });
@@ -469,4 +469,25 @@ fn eq_4_10_projection_diagonal_is_the_mass_weighted_square_of_the_basis() {
             max_relative = 1e-14
         );
     }
+}
+
+/// A run document names the ramp's time level only when it is not the
+/// text's (TLS paper Eq. 10's tⁿ), as it leaves out every default.
+#[test]
+fn a_ramp_read_at_the_step_start_prints_only_its_duration() {
+    let json = |time_level| {
+        serde_json::to_value(GravityRamp {
+            duration: 0.5,
+            time_level,
+        })
+        .unwrap()
+    };
+    assert_eq!(
+        json(RampTimeLevel::StepStart),
+        serde_json::json!({ "duration": 0.5 })
+    );
+    assert_eq!(
+        json(RampTimeLevel::StepEnd),
+        serde_json::json!({ "duration": 0.5, "time_level": "step-end" })
+    );
 }

@@ -344,6 +344,29 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
         target[2] = bad;
         assert_eq!(non_physical(&sim), (1, false), "{field} = {bad}");
     }
+    // Two failures in one particle are still found (the check's first,
+    // vectorised pass ORs the failures; an XOR would cancel a pair).
+    for (x, v, volume) in [
+        (f64::INFINITY, 0.0, 1.0 / 3.0),
+        (f64::NEG_INFINITY, 0.0, 1.0 / 3.0),
+        (2.0, 0.0, -0.1),
+        (-1.0, f64::NAN, 1.0 / 3.0),
+        (0.5, f64::NAN, 0.0),
+    ] {
+        sim.particles = clean.clone();
+        (
+            sim.particles.x[1],
+            sim.particles.velocity[1],
+            sim.particles.volume[1],
+        ) = (x, v, volume);
+        assert_eq!(
+            non_physical(&sim),
+            (1, false),
+            "x = {x}, v = {v}, V = {volume}"
+        );
+    }
+    sim.particles = clean.clone();
+    sim.particles.x[1] = f64::NAN;
     sim.diagnostics.negative_mass_steps = 2;
     assert_eq!(non_physical(&sim), (1, true));
 
