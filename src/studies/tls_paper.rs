@@ -11,7 +11,7 @@
 //! [`ConservationByMethod`], [`conservation_by_mapping`],
 //! [`as_paper_ran`], [`fig6_variants`], [`fitted_order`], [`fig6_errors`], [`CompactionRun`],
 //! [`compaction`], [`compactions`], [`compaction_uncached`], [`compaction_with_average`],
-//! [`compaction_simulation`], [`compaction_start`], [`COMPACTION_DT`], [`COMPACTION_STEPS`],
+//! [`compaction_simulation`], [`compaction_stress_error`], [`compaction_start`], [`COMPACTION_DT`], [`COMPACTION_STEPS`],
 //! [`compaction_dynamic_reference`],
 //! [`TABLE_8_SUBPOINTS`],
 //! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`],
@@ -269,15 +269,8 @@ pub fn compaction_with_average(
     average: CellAverage,
 ) -> Result<CompactionRun> {
     let sim = compaction_simulation(method, mapping, average, RampTimeLevel::StepStart)?;
-    let p = column::parameters("tls-table-6")?;
-    let exact: Vec<f64> = sim
-        .particles
-        .x0
-        .iter()
-        .map(|&x| p.equilibrium_stress(x, sim.time))
-        .collect();
     Ok(CompactionRun {
-        stress_error: relative_l2_error(&sim.particles.stress, &exact)?,
+        stress_error: compaction_stress_error(&sim)?,
         mass_error: sim.diagnostics.max_mass_error,
         momentum_error: sim.diagnostics.max_momentum_error,
         crossings: sim.diagnostics.grid_crossings,
@@ -287,6 +280,20 @@ pub fn compaction_with_average(
             .iter()
             .fold(0.0, |a: f64, u| a.max(u.abs())),
     })
+}
+
+/// TLS paper Fig. 10's error of a compaction run: the relative L2 error of
+/// the particle stress against the quasi-static ρ₀b(t)(H − X) at the run's
+/// time.
+pub fn compaction_stress_error(sim: &Simulation) -> Result<f64> {
+    let p = column::parameters("tls-table-6")?;
+    let exact: Vec<f64> = sim
+        .particles
+        .x0
+        .iter()
+        .map(|&x| p.equilibrium_stress(x, sim.time))
+        .collect();
+    relative_l2_error(&sim.particles.stress, &exact)
 }
 
 /// The compaction of TLS paper Table 6 (50 elements, 20 PPC, Δt = 1e-4 s,

@@ -436,7 +436,7 @@ fn fig10_errors_carry_the_ramps_dynamic_remainder_which_the_force_time_level_mov
     use hompm::mpm::musl::RampTimeLevel;
     use hompm::reconstruct::taylor::CellAverage;
     use hompm::studies::tls_paper::{
-        as_paper_ran, compaction_dynamic_reference, compaction_simulation,
+        as_paper_ran, compaction_dynamic_reference, compaction_simulation, compaction_stress_error,
     };
     let p = column::parameters("tls-table-6").unwrap();
     let fig10 = published("tls-fig10");
@@ -491,13 +491,7 @@ fn fig10_errors_carry_the_ramps_dynamic_remainder_which_the_force_time_level_mov
                 level,
             )
             .unwrap();
-            let exact: Vec<f64> = sim
-                .particles
-                .x0
-                .iter()
-                .map(|&x| p.equilibrium_stress(x, sim.time))
-                .collect();
-            relative_l2_error(&sim.particles.stress, &exact).unwrap()
+            compaction_stress_error(&sim).unwrap()
         };
         let start = compaction(as_paper_ran(method, mapping), mapping)
             .unwrap()

@@ -7,6 +7,7 @@
 
 use approx::assert_relative_eq;
 use hompm::error::Error;
+use hompm::mpm::diagnostics::compensated_sum;
 use hompm::mpm2d::mls::{GaussGrid, MlsShapes};
 use hompm::mpm2d::step::{
     map_direct, map_reconstructed, Formulation, Mapping2d, Settings2d, Simulation2d,
@@ -1309,22 +1310,6 @@ fn tls_2d_reproduces_every_polynomial_of_its_order() {
     for (x, v) in reconstructed_at_gauss_points(&shapes, &grid, &p, quadratic) {
         assert_relative_eq!(v, quadratic(x[0], x[1]), max_relative = 1e-12);
     }
-}
-
-/// Σ of `values` by Neumaier's compensated summation, so that the rounding
-/// of the sum itself stays far below the 1e-13 tested.
-fn compensated_sum(values: impl Iterator<Item = f64>) -> f64 {
-    let (mut sum, mut c) = (0.0f64, 0.0f64);
-    for v in values {
-        let t = sum + v;
-        c += if sum.abs() >= v.abs() {
-            (sum - t) + v
-        } else {
-            (v - t) + sum
-        };
-        sum = t;
-    }
-    sum + c
 }
 
 /// Records, at every phase-1 mapping, the relative mass error and the
