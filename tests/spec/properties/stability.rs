@@ -376,6 +376,9 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
         ([0.5, 0.0f64.next_down(), -1.0], 1),
         ([0.5, 1.0f64.next_up(), 2.0], 1),
         ([-1.0, 0.5, 2.0], 0),
+        // Both ends are inside while another particle is out.
+        ([0.0, 1.0, 2.0], 2),
+        ([1.0, 0.0, -1.0], 2),
     ] {
         sim.particles.x = x.to_vec();
         match sim.check_particles_are_physical() {
