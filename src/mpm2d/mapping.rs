@@ -2,13 +2,14 @@
 //!
 //! How particle data reach the grid in a 2D step (MLS paper, "phase 1"):
 //! directly by the B-spline functions (Eqs. 22–26), or through a
-//! Gauss-point reconstruction, MLS (Eqs. 10–21) or TLS (TLS paper §5 in
-//! 2D). A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`]
+//! Gauss-point reconstruction, MLS (Eqs. 10–21), TLS (TLS paper §5 in
+//! 2D) or partition-of-unity TLS (hompm's blend of TLS paper Eqs. 13–14). A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`]
 //! arm and one [`Mapping2d::reconstruction`] arm.
 //!
 //! Items: [`Mapping2d`], [`MappingInfo`].
 
 use super::mls::MlsShapes;
+use super::pu_tls::PuTlsShapes;
 use super::reconstruction::GaussReconstruction;
 use super::tls::{BasisRule, TlsShapes};
 use crate::error::Result;
@@ -34,6 +35,11 @@ pub enum Mapping2d {
     /// count, as the 2D TLS of QuocAnh90/MPM2D_basic (cc01c1b,
     /// `SubFunctions/TLS2D.m:56-76`): [`super::tls::BasisRule::ParticleCount`].
     TlsByCount,
+    /// Partition-of-unity TLS ([`super::pu_tls`], hompm's construction):
+    /// conservative linear fits on the supports of the quadratic B-splines
+    /// (TLS paper Eqs. 13–14 with the weights N_e), blended by them at the
+    /// Gauss points; conservative and continuous, in both mappings of a step.
+    PuTls,
 }
 
 /// What the rest of hompm knows of a mapping: its names and its cost. One
@@ -58,12 +64,13 @@ pub struct MappingInfo {
 
 impl Mapping2d {
     /// Every mapping, in the order the command line lists them.
-    pub const ALL: [Mapping2d; 5] = [
+    pub const ALL: [Mapping2d; 6] = [
         Mapping2d::Direct,
         Mapping2d::Mls,
         Mapping2d::MlsPhase1,
         Mapping2d::Tls,
         Mapping2d::TlsByCount,
+        Mapping2d::PuTls,
     ];
 
     /// The registration of a mapping's names and cost.
@@ -104,6 +111,15 @@ impl Mapping2d {
                 ns_per_particle_step: 250.0,
                 bytes_per_particle: 0.0,
             },
+            Mapping2d::PuTls => MappingInfo {
+                name: "pu-tls",
+                label: "PU-TLS",
+                summary: "B-spline MPM with partition-of-unity TLS to the Gauss points, conservative and continuous (hompm's construction; aligned-vibration only)",
+                ns_per_particle_step: 2500.0,
+                // 100 list entries (u32 + f64) per particle, 27 coefficients
+                // and 6 basis values.
+                bytes_per_particle: 100.0 * 12.0 + 33.0 * 8.0,
+            },
         }
     }
 
@@ -126,6 +142,7 @@ impl Mapping2d {
             Mapping2d::TlsByCount => Some(Box::new(
                 TlsShapes::for_engine(cells, particles)?.with_basis_rule(BasisRule::ParticleCount),
             )),
+            Mapping2d::PuTls => Some(Box::new(PuTlsShapes::for_engine(cells, particles)?)),
         })
     }
 

@@ -1,0 +1,498 @@
+//! # Partition-of-unity Taylor least squares in 2D, at the Gauss points
+//!
+//! A conservative reconstruction that is continuous in the particle
+//! positions. 2D TLS ([`super::tls`]) fits each cell on its own, so its
+//! φ_gp jump when a particle crosses a cell edge; MLS ([`super::mls`]) is
+//! continuous but not conservative. This module blends constrained linear
+//! fits, one per function of the grid's quadratic B-spline basis, by that
+//! basis. **The blend is hompm's construction, not a paper's**: its pieces
+//! are the TLS paper's conservative fit (§5.2–5.5, Eqs. 13–14: a
+//! least-squares fit whose first coefficient is fixed by the particles'
+//! integral) and the MLS paper's route to the grid (Eqs. 18–25: values at
+//! the 2×2 Gauss points of every cell, integrated with ω_g = (h/2)²).
+//!
+//! **Patches.** N_e = N_a(x) N_b(y), e = (a, b), are the open-uniform
+//! quadratic B-splines of the grid's cells ([`open_quadratic_on_cell`], the
+//! grid's own basis at `--degree 2` with open knots): C¹, non-negative,
+//! Σ_e N_e = 1. With X = x/h, Y = y/h and the N_e-weighted Gauss centroid
+//! (X̄_a, Ȳ_b) = Σ_g ω_g N_e(x_g)(X_g, Y_g) / m_e, m_e = Σ_g ω_g N_e(x_g),
+//! the patch basis is ψ₁ = 1, ψ₂ = X − X̄_a, ψ₃ = Y − Ȳ_b: the linear
+//! Taylor basis scaled by h, shifted so that Σ_g ω_g N_e(x_g) ψ_i = m_e δ_i1
+//! (the counterpart of TLS paper Eq. 12 with the weight N_e).
+//!
+//! **The fit on patch e** (weights w_p = N_e(x_p), particle volumes V_p):
+//! f_e = α₁ + α₂ψ₂ + α₃ψ₃ with the constraint
+//! Σ_g ω_g N_e(x_g) f_e(x_g) = Σ_p N_e(x_p) V_p f_p, i.e.
+//! α₁ = Σ_p N_e(x_p) V_p f_p / m_e (TLS paper Eq. 14 with V_p/|Ω_e|
+//! replaced by N_e(x_p)V_p/m_e), and (α₂, α₃) the weighted least squares of
+//! ψ₂, ψ₃ to f_p − α₁ (Eq. 13): D = Σ_p w_p ψ̂_pψ̂_pᵀ, ψ̂ = (ψ₂, ψ₃),
+//! U = D⁻¹ Σ_p w_p ψ̂_p. Per particle, with c_pe = N_e(x_p)V_p/m_e,
+//!
+//! f_e(x) = Σ_p f_p [c_pe + (w_p D⁻¹ψ̂_p − c_pe U)·ψ̂(x)].
+//!
+//! **The reconstruction** f̃(x_g) = Σ_e N_e(x_g) f_e(x_g) = Σ_p φ_gp f_p, so
+//! φ_gp = Σ_e N_e(x_g)[c_pe + (w_p D⁻¹ψ̂_p − c_pe U)·ψ̂(x_g)]: a
+//! [`GaussReconstruction`] whose Gauss point in cell (c_x, c_y) reaches the
+//! particles of the 5×5 cells around it.
+//!
+//! **Conservation.** Σ_g ω_g φ_gp = Σ_e [c_pe m_e + (…)·Σ_g ω_g N_e ψ̂] =
+//! Σ_e N_e(x_p) V_p + 0 = V_p, by the constraint, the shift of ψ̂ and the
+//! partition of unity at x_p. So Σ_g ω_g f̃_g = Σ_p V_p f_p to rounding:
+//! mass and momentum are mapped exactly, at every step, as in the TLS
+//! paper's §5.5 (the proof uses the discrete Gauss sums themselves, no
+//! quadrature exactness).
+//!
+//! **Continuity.** w_p = N_e(x_p) vanishes with its first derivative at the
+//! edge of supp N_e, so a particle enters and leaves a patch's sums
+//! continuously, and the cell it is binned in changes only where the
+//! functions it drops and gains are zero: φ_gp is continuous in the
+//! positions while every patch keeps its basis.
+//!
+//! **Degenerate patches** (TLS paper §5.3, as 2D TLS). A patch whose D has
+//! κ₁(D) = ‖D‖₁‖D⁻¹‖₁ above the limit ([`super::tls::TLS_2D_MAX_CONDITION`]
+//! by default) or is singular (fewer than two particles with w_p > 0, or
+//! all on a line through the centroid) is reduced to the constant ψ₁ under
+//! [`DegenerateCells::ReduceBasis`] (the engine's choice; it keeps the
+//! constraint, so it still conserves, and counts in
+//! [`Reconstruction::repaired`]), or is `Error::SingularCell` naming the
+//! patch and its support under [`DegenerateCells::Error`]. A patch without
+//! particles has f_e = 0, exactly its particles' sum. The reduction is the
+//! one place φ_gp may jump; the sparse patches at a free surface would meet
+//! it, the aligned vibration's full square does not (κ is reported).
+//!
+//! Items: [`open_quadratic_on_cell`], [`PuTlsShapes`].
+
+use super::particles::Particles2d;
+use super::reconstruction::{
+    GaussGrid, GaussReconstruction, Reconstruction, ShapeBuffers, ShapeLists,
+};
+use super::tls::TLS_2D_MAX_CONDITION;
+use crate::error::{Error, Result};
+use crate::reconstruct::taylor::DegenerateCells;
+
+/// The three open-uniform quadratic B-splines N_c, N_{c+1}, N_{c+2} that are
+/// non-zero on cell c of `cells` unit cells, at t = X − c ∈ [0, 1] (clamped):
+/// the knots 0, 0, 0, 1, …, cells − 1, cells, cells, cells (book Eqs.
+/// 4.19–4.20 for p = 2; MLS paper Eqs. 4–5 take their tensor product).
+/// Interior cells carry the uniform pieces (1 − t)²/2, 1/2 + t − t², t²/2;
+/// the first and last cells the pieces of the repeated knots.
+pub fn open_quadratic_on_cell(cells: usize, cell: usize, t: f64) -> [f64; 3] {
+    let t = t.clamp(0.0, 1.0);
+    let s = 1.0 - t;
+    if cells == 1 {
+        return [s * s, 2.0 * t * s, t * t];
+    }
+    let first = if cell == 0 { s * s } else { 0.5 * s * s };
+    let last = if cell + 1 == cells {
+        t * t
+    } else {
+        0.5 * t * t
+    };
+    [first, 1.0 - first - last, last]
+}
+
+/// One patch's sums and solution: D (xx, xy, yy), Σ w ψ̂, the number of
+/// particles with w > 0, D⁻¹ (xx, xy, yy), U = D⁻¹Σ w ψ̂, and whether the
+/// patch was reduced to the constant.
+#[derive(Debug, Clone, Copy, Default)]
+struct Patch {
+    d: [f64; 3],
+    g: [f64; 2],
+    count: usize,
+    inverse: [f64; 3],
+    u: [f64; 2],
+    constant: bool,
+}
+
+/// The PU-TLS shape functions at the Gauss points (module doc), with every
+/// buffer of their evaluation, allocated in [`PuTlsShapes::new`].
+#[derive(Debug, Clone)]
+pub struct PuTlsShapes {
+    cells: usize,
+    degenerate: DegenerateCells,
+    max_condition: f64,
+    shapes: ShapeBuffers,
+    largest_condition: f64,
+    repaired: usize,
+    /// Counting sort of the particles by cell: slots `bin_start[c] ..
+    /// bin_start[c + 1]` of `bin_particles`.
+    bin_start: Vec<usize>,
+    bin_particles: Vec<u32>,
+    /// The 1D functions at each Gauss abscissa (X units), three per point.
+    gauss_values: Vec<[f64; 3]>,
+    /// Σ_g ½ N_a(X_g) per 1D function a (m_e = h² ·mass_a·mass_b).
+    axis_mass: Vec<f64>,
+    /// The N_a-weighted Gauss centroid X̄_a per 1D function.
+    axis_centroid: Vec<f64>,
+    patches: Vec<Patch>,
+    /// Per slot: the 1D values along x and y.
+    slot_values: Vec<[[f64; 3]; 2]>,
+    /// Per slot and patch i + 3j of its cell: [c_pe, B_x, B_y].
+    coefficients: Vec<[[f64; 3]; 9]>,
+    /// φ of the four Gauss points of a cell for the particles of its block.
+    local_phi: Vec<[f64; 4]>,
+}
+
+impl PuTlsShapes {
+    /// Buffers for `particles` particles on `cells`² cells, under the
+    /// degenerate-patch policy `degenerate` (`Error` or `ReduceBasis`;
+    /// virtual points have no 2D form, as in 2D TLS, and are refused).
+    pub fn new(degenerate: DegenerateCells, cells: usize, particles: usize) -> Result<Self> {
+        if degenerate == DegenerateCells::VirtualPoints {
+            return Err(Error::InvalidArgument(
+                "PU-TLS repairs degenerate patches by reducing the basis or refuses them; virtual points are 1D only".into(),
+            ));
+        }
+        if cells == 0 {
+            return Err(Error::InvalidArgument(
+                "PU-TLS needs at least one cell".into(),
+            ));
+        }
+        if particles > u32::MAX as usize {
+            return Err(Error::InvalidArgument(format!(
+                "{particles} particles is more than the PU-TLS lists index"
+            )));
+        }
+        let (gauss_points, functions) = (4 * cells * cells, cells + 2);
+        // Each particle reaches the four Gauss points of the (at most) 5×5
+        // cells around its own.
+        let entries = 100 * particles;
+        Ok(Self {
+            cells,
+            degenerate,
+            max_condition: TLS_2D_MAX_CONDITION,
+            shapes: ShapeBuffers {
+                start: vec![0; gauss_points],
+                end: vec![0; gauss_points],
+                particle: Vec::with_capacity(entries),
+                phi: Vec::with_capacity(entries),
+            },
+            largest_condition: 0.0,
+            repaired: 0,
+            bin_start: vec![0; cells * cells + 2],
+            bin_particles: vec![0; particles],
+            gauss_values: vec![[0.0; 3]; 2 * cells],
+            axis_mass: vec![0.0; functions],
+            axis_centroid: vec![0.0; functions],
+            patches: vec![Patch::default(); functions * functions],
+            slot_values: vec![[[0.0; 3]; 2]; particles],
+            coefficients: vec![[[0.0; 3]; 9]; particles],
+            local_phi: Vec::with_capacity(2 * particles.div_ceil(cells * cells).max(1) * 25),
+        })
+    }
+
+    /// The engine's PU-TLS: reduced-basis repair.
+    pub fn for_engine(cells: usize, particles: usize) -> Result<Self> {
+        Self::new(DegenerateCells::ReduceBasis, cells, particles)
+    }
+
+    /// The same with another κ₁(D) limit of a degenerate patch (default
+    /// [`TLS_2D_MAX_CONDITION`]).
+    pub fn with_max_condition(mut self, limit: f64) -> Self {
+        self.max_condition = limit;
+        self
+    }
+
+    /// Bins the particles by cell (a counting sort into preallocated
+    /// buffers, particles in order within a cell), refusing a cell index
+    /// outside the grid. Afterwards cell c holds the slots
+    /// `bin_start[c] .. bin_start[c + 1]`.
+    fn bin(&mut self, cell_x: &[usize], cell_y: &[usize]) -> Result<()> {
+        let n = self.cells;
+        let start = &mut self.bin_start;
+        start.iter_mut().for_each(|s| *s = 0);
+        for (k, (&cx, &cy)) in cell_x.iter().zip(cell_y).enumerate() {
+            if cx >= n || cy >= n {
+                return Err(Error::InvalidArgument(format!(
+                    "particle {k} is in cell ({cx}, {cy}) of a {n}×{n} grid"
+                )));
+            }
+            start[cx + n * cy + 2] += 1;
+        }
+        for c in 2..n * n + 2 {
+            start[c] += start[c - 1];
+        }
+        // start[c + 1] is the next free slot of cell c; once filled it is
+        // the end of cell c, the start of cell c + 1.
+        for (k, (&cx, &cy)) in cell_x.iter().zip(cell_y).enumerate() {
+            let c = cx + n * cy;
+            self.bin_particles[start[c + 1]] = k as u32;
+            start[c + 1] += 1;
+        }
+        Ok(())
+    }
+}
+
+/// The four Gauss points of a cell in [`super::reconstruction::storage_order`].
+const QUAD: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
+
+impl PuTlsShapes {
+    /// The 1D functions at the Gauss abscissae, their Gauss masses
+    /// Σ_g ½N_a(X_g) and the centroids X̄_a (module doc, "Patches").
+    fn axis_moments(&mut self, gauss: &GaussGrid) {
+        let (n, h) = (self.cells, gauss.cell_size);
+        self.axis_mass.iter_mut().for_each(|m| *m = 0.0);
+        self.axis_centroid.iter_mut().for_each(|c| *c = 0.0);
+        for (gx, &x) in gauss.abscissae.iter().enumerate() {
+            let (c, big_x) = (gx / 2, x / h);
+            let v = open_quadratic_on_cell(n, c, big_x - c as f64);
+            self.gauss_values[gx] = v;
+            for (i, vi) in v.iter().enumerate() {
+                self.axis_mass[c + i] += 0.5 * vi;
+                self.axis_centroid[c + i] += 0.5 * vi * big_x;
+            }
+        }
+        for (c, m) in self.axis_centroid.iter_mut().zip(&self.axis_mass) {
+            *c /= m;
+        }
+    }
+
+    /// The sums D and Σ w ψ̂ of every patch, then its D⁻¹ and U, or its
+    /// reduction to the constant (module doc, "Degenerate patches").
+    fn fit_patches(&mut self, particles: &Particles2d, h: f64) -> Result<()> {
+        let n = self.cells;
+        let nf = n + 2;
+        self.patches.iter_mut().for_each(|p| *p = Patch::default());
+        for c in 0..n * n {
+            let (cx, cy) = (c % n, c / n);
+            for s in self.bin_start[c]..self.bin_start[c + 1] {
+                let [x, y] = particles.x[self.bin_particles[s] as usize];
+                let (big_x, big_y) = (x / h, y / h);
+                let vx = open_quadratic_on_cell(n, cx, big_x - cx as f64);
+                let vy = open_quadratic_on_cell(n, cy, big_y - cy as f64);
+                self.slot_values[s] = [vx, vy];
+                for (j, wy) in vy.iter().enumerate() {
+                    for (i, wx) in vx.iter().enumerate() {
+                        let w = wx * wy;
+                        let psi = [
+                            big_x - self.axis_centroid[cx + i],
+                            big_y - self.axis_centroid[cy + j],
+                        ];
+                        let p = &mut self.patches[(cx + i) + nf * (cy + j)];
+                        p.d[0] += w * psi[0] * psi[0];
+                        p.d[1] += w * psi[0] * psi[1];
+                        p.d[2] += w * psi[1] * psi[1];
+                        p.g[0] += w * psi[0];
+                        p.g[1] += w * psi[1];
+                        p.count += usize::from(w > 0.0);
+                    }
+                }
+            }
+        }
+        let norm = |m: &[f64; 3]| (m[0].abs() + m[1].abs()).max(m[1].abs() + m[2].abs());
+        for (e, p) in self.patches.iter_mut().enumerate() {
+            p.constant = true;
+            if p.count == 0 {
+                continue;
+            }
+            let d = p.d;
+            let det = d[0] * d[2] - d[1] * d[1];
+            let inverse = [d[2] / det, -d[1] / det, d[0] / det];
+            let kappa = norm(&d) * norm(&inverse);
+            if det > 0.0 && kappa.is_finite() && kappa <= self.max_condition {
+                p.constant = false;
+                p.inverse = inverse;
+                p.u = [
+                    inverse[0] * p.g[0] + inverse[1] * p.g[1],
+                    inverse[1] * p.g[0] + inverse[2] * p.g[1],
+                ];
+                self.largest_condition = self.largest_condition.max(kappa);
+                continue;
+            }
+            if self.degenerate != DegenerateCells::ReduceBasis {
+                let (a, b) = (e % nf, e / nf);
+                let support =
+                    |i: usize| (i.saturating_sub(2) as f64 * h, (i + 1).min(n) as f64 * h);
+                let ((x0, x1), (y0, y1)) = (support(a), support(b));
+                return Err(Error::SingularCell {
+                    cell: vec![a, b],
+                    lower: vec![x0, y0],
+                    upper: vec![x1, y1],
+                    detail: format!(
+                        "the PU-TLS patch of B-spline ({a}, {b}) has {} particles with a positive weight for the linear basis, κ₁(D) = {:e} > {:e}",
+                        p.count,
+                        if kappa.is_finite() { kappa } else { f64::INFINITY },
+                        self.max_condition
+                    ),
+                });
+            }
+            self.repaired += 1;
+            self.largest_condition = self.largest_condition.max(1.0);
+        }
+        Ok(())
+    }
+
+    /// Per slot and patch, [c_pe, B_x, B_y] with
+    /// B = w_p D⁻¹ψ̂_p − c_pe U (zero for a constant patch).
+    fn particle_coefficients(&mut self, particles: &Particles2d, h: f64) {
+        let n = self.cells;
+        let nf = n + 2;
+        for c in 0..n * n {
+            let (cx, cy) = (c % n, c / n);
+            for s in self.bin_start[c]..self.bin_start[c + 1] {
+                let k = self.bin_particles[s] as usize;
+                let [x, y] = particles.x[k];
+                let (big_x, big_y) = (x / h, y / h);
+                let [vx, vy] = self.slot_values[s];
+                let volume = particles.volume[k];
+                for (j, wy) in vy.iter().enumerate() {
+                    for (i, wx) in vx.iter().enumerate() {
+                        let (a, b) = (cx + i, cy + j);
+                        let p = &self.patches[a + nf * b];
+                        let w = wx * wy;
+                        let m = h * h * self.axis_mass[a] * self.axis_mass[b];
+                        let share = w * volume / m;
+                        let bxy = if p.constant {
+                            [0.0; 2]
+                        } else {
+                            let psi =
+                                [big_x - self.axis_centroid[a], big_y - self.axis_centroid[b]];
+                            let q = [
+                                p.inverse[0] * psi[0] + p.inverse[1] * psi[1],
+                                p.inverse[1] * psi[0] + p.inverse[2] * psi[1],
+                            ];
+                            [w * q[0] - share * p.u[0], w * q[1] - share * p.u[1]]
+                        };
+                        self.coefficients[s][i + 3 * j] = [share, bxy[0], bxy[1]];
+                    }
+                }
+            }
+        }
+    }
+
+    /// φ_gp of the four Gauss points of cell (cx, cy) over the particles of
+    /// the 5×5 cells around it, appended to the lists.
+    fn emit_cell(&mut self, gauss: &GaussGrid, cx: usize, cy: usize) {
+        let (n, h) = (self.cells, gauss.cell_size);
+        let (x0, x1) = (cx.saturating_sub(2), (cx + 2).min(n - 1));
+        let (y0, y1) = (cy.saturating_sub(2), (cy + 2).min(n - 1));
+        let bin =
+            |start: &[usize], bx: usize, by: usize| start[bx + n * by]..start[bx + n * by + 1];
+        let mut offset = [0usize; 25];
+        let mut total = 0;
+        for by in y0..=y1 {
+            for bx in x0..=x1 {
+                offset[(bx - x0) + 5 * (by - y0)] = total;
+                total += bin(&self.bin_start, bx, by).len();
+            }
+        }
+        self.local_phi.clear();
+        self.local_phi.resize(total, [0.0; 4]);
+        for j in 0..3 {
+            for i in 0..3 {
+                let (a, b) = (cx + i, cy + j);
+                // N_e(x_g)·(1, ψ₂(x_g), ψ₃(x_g)) at the four points.
+                let factors = QUAD.map(|(qi, qj)| {
+                    let (gx, gy) = (2 * cx + qi, 2 * cy + qj);
+                    let value = self.gauss_values[gx][i] * self.gauss_values[gy][j];
+                    [
+                        value,
+                        value * (gauss.abscissae[gx] / h - self.axis_centroid[a]),
+                        value * (gauss.abscissae[gy] / h - self.axis_centroid[b]),
+                    ]
+                });
+                for by in b.saturating_sub(2)..=b.min(n - 1) {
+                    for bx in a.saturating_sub(2)..=a.min(n - 1) {
+                        let patch = (a - bx) + 3 * (b - by);
+                        let base = offset[(bx - x0) + 5 * (by - y0)];
+                        let slots = bin(&self.bin_start, bx, by);
+                        let out = &mut self.local_phi[base..base + slots.len()];
+                        for (phi, s) in out.iter_mut().zip(slots) {
+                            let cf = &self.coefficients[s][patch];
+                            for (v, f) in phi.iter_mut().zip(&factors) {
+                                *v += cf[0] * f[0] + cf[1] * f[1] + cf[2] * f[2];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let ng = 2 * n;
+        let shapes = &mut self.shapes;
+        for (q, (qi, qj)) in QUAD.into_iter().enumerate() {
+            let g = (2 * cx + qi) + ng * (2 * cy + qj);
+            shapes.start[g] = shapes.particle.len();
+            for by in y0..=y1 {
+                for bx in x0..=x1 {
+                    let slots = bin(&self.bin_start, bx, by);
+                    shapes
+                        .particle
+                        .extend_from_slice(&self.bin_particles[slots]);
+                }
+            }
+            shapes.phi.extend(self.local_phi.iter().map(|v| v[q]));
+            shapes.end[g] = shapes.particle.len();
+        }
+    }
+}
+
+impl Reconstruction for PuTlsShapes {
+    fn name(&self) -> &'static str {
+        "PU-TLS"
+    }
+
+    fn largest_condition(&self) -> f64 {
+        self.largest_condition
+    }
+
+    fn repaired(&self) -> usize {
+        self.repaired
+    }
+}
+
+impl GaussReconstruction for PuTlsShapes {
+    /// The constrained fits of every patch (TLS paper Eqs. 13–14 with the
+    /// weights N_e, module doc) blended by N_e at the Gauss points of
+    /// MLS paper Eqs. 18–21.
+    fn evaluate(
+        &mut self,
+        gauss: &GaussGrid,
+        particles: &Particles2d,
+        cell_x: &[usize],
+        cell_y: &[usize],
+    ) -> Result<()> {
+        let (n, h) = (self.cells, gauss.cell_size);
+        if gauss.cells != n || gauss.abscissae.len() != 2 * n || !(h.is_finite() && h > 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "PU-TLS was built for {n}×{n} cells, evaluated on {} cells of size {h} with {} abscissae",
+                gauss.cells,
+                gauss.abscissae.len()
+            )));
+        }
+        let count = particles.len();
+        if cell_x.len() != count || cell_y.len() != count {
+            return Err(Error::InvalidArgument(format!(
+                "{count} particles with {} and {} cell indices",
+                cell_x.len(),
+                cell_y.len()
+            )));
+        }
+        if count > u32::MAX as usize {
+            return Err(Error::InvalidArgument(format!(
+                "{count} particles is more than the PU-TLS lists index"
+            )));
+        }
+        // Allocates only when the particle count changed since `new`.
+        self.bin_particles.resize(count, 0);
+        self.slot_values.resize(count, [[0.0; 3]; 2]);
+        self.coefficients.resize(count, [[0.0; 3]; 9]);
+        self.largest_condition = 0.0;
+        self.repaired = 0;
+        self.bin(cell_x, cell_y)?;
+        self.axis_moments(gauss);
+        self.fit_patches(particles, h)?;
+        self.particle_coefficients(particles, h);
+        self.shapes.particle.clear();
+        self.shapes.phi.clear();
+        for cy in 0..n {
+            for cx in 0..n {
+                self.emit_cell(gauss, cx, cy);
+            }
+        }
+        Ok(())
+    }
+
+    fn lists(&self) -> ShapeLists<'_> {
+        self.shapes.lists()
+    }
+}
