@@ -122,7 +122,8 @@ pub struct PuTlsShapes {
     gauss_values: Vec<[f64; 3]>,
     /// Σ_g ½ N_a(X_g) per 1D function a (m_e = h² ·mass_a·mass_b).
     axis_mass: Vec<f64>,
-    /// The N_a-weighted Gauss centroid X̄_a per 1D function.
+    /// X̄_a − a per 1D function a: the N_a-weighted Gauss centroid,
+    /// relative to the integer a (see [`local`]).
     axis_centroid: Vec<f64>,
     patches: Vec<Patch>,
     /// Per slot: the 1D values along x and y.
@@ -155,7 +156,7 @@ impl PuTlsShapes {
         }
         let (gauss_points, functions) = (4 * cells * cells, cells + 2);
         // Each particle reaches the four Gauss points of the (at most) 5×5
-        // cells around its own.
+        // cells around its own: the lists never outgrow this.
         let entries = 100 * particles;
         Ok(Self {
             cells,
@@ -177,7 +178,8 @@ impl PuTlsShapes {
             patches: vec![Patch::default(); functions * functions],
             slot_values: vec![[[0.0; 3]; 2]; particles],
             coefficients: vec![[[0.0; 3]; 9]; particles],
-            local_phi: Vec::with_capacity(2 * particles.div_ceil(cells * cells).max(1) * 25),
+            // A block holds at most every particle: never reallocated.
+            local_phi: Vec::with_capacity(particles),
         })
     }
 
@@ -223,6 +225,15 @@ impl PuTlsShapes {
     }
 }
 
+/// X − a: a coordinate relative to the integer a of the function N_a whose
+/// support [a − 2, a + 1] holds it. The difference is exact for a ≥ 4
+/// (Sterbenz), so ψ₂ = (X − a) − (X̄_a − a) carries rounding of the size of
+/// ψ₂, not of X: with X itself, Σ_g ω_g N_e ψ₂ = 0 held only to ε·X, and
+/// the mapped mass drifted by ~ε·cells (1e-13 on 32 cells).
+fn local(big_x: f64, a: usize) -> f64 {
+    big_x - a as f64
+}
+
 /// The four Gauss points of a cell in [`super::reconstruction::storage_order`].
 const QUAD: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
@@ -239,7 +250,7 @@ impl PuTlsShapes {
             self.gauss_values[gx] = v;
             for (i, vi) in v.iter().enumerate() {
                 self.axis_mass[c + i] += 0.5 * vi;
-                self.axis_centroid[c + i] += 0.5 * vi * big_x;
+                self.axis_centroid[c + i] += 0.5 * vi * local(big_x, c + i);
             }
         }
         for (c, m) in self.axis_centroid.iter_mut().zip(&self.axis_mass) {
@@ -265,8 +276,8 @@ impl PuTlsShapes {
                     for (i, wx) in vx.iter().enumerate() {
                         let w = wx * wy;
                         let psi = [
-                            big_x - self.axis_centroid[cx + i],
-                            big_y - self.axis_centroid[cy + j],
+                            local(big_x, cx + i) - self.axis_centroid[cx + i],
+                            local(big_y, cy + j) - self.axis_centroid[cy + j],
                         ];
                         let p = &mut self.patches[(cx + i) + nf * (cy + j)];
                         p.d[0] += w * psi[0] * psi[0];
@@ -346,7 +357,10 @@ impl PuTlsShapes {
                             [0.0; 2]
                         } else {
                             let psi =
-                                [big_x - self.axis_centroid[a], big_y - self.axis_centroid[b]];
+                                [
+                                    local(big_x, a) - self.axis_centroid[a],
+                                    local(big_y, b) - self.axis_centroid[b],
+                                ];
                             let q = [
                                 p.inverse[0] * psi[0] + p.inverse[1] * psi[1],
                                 p.inverse[1] * psi[0] + p.inverse[2] * psi[1],
@@ -387,8 +401,8 @@ impl PuTlsShapes {
                     let value = self.gauss_values[gx][i] * self.gauss_values[gy][j];
                     [
                         value,
-                        value * (gauss.abscissae[gx] / h - self.axis_centroid[a]),
-                        value * (gauss.abscissae[gy] / h - self.axis_centroid[b]),
+                        value * (local(gauss.abscissae[gx] / h, a) - self.axis_centroid[a]),
+                        value * (local(gauss.abscissae[gy] / h, b) - self.axis_centroid[b]),
                     ]
                 });
                 for by in b.saturating_sub(2)..=b.min(n - 1) {

@@ -1329,9 +1329,11 @@ fn compensated_sum(values: impl Iterator<Item = f64>) -> f64 {
 
 /// Records, at every phase-1 mapping, the relative mass error and the
 /// momentum error relative to Σ m|v|, with compensated sums.
-struct ConservationProbe {
-    largest: [f64; 2],
-    mappings: usize,
+pub(super) struct ConservationProbe {
+    /// The largest relative errors of mass and momentum so far.
+    pub(super) largest: [f64; 2],
+    /// The phase-1 mappings observed.
+    pub(super) mappings: usize,
 }
 
 impl StepObserver2d for ConservationProbe {
