@@ -356,11 +356,10 @@ impl PuTlsShapes {
                         let bxy = if p.constant {
                             [0.0; 2]
                         } else {
-                            let psi =
-                                [
-                                    local(big_x, a) - self.axis_centroid[a],
-                                    local(big_y, b) - self.axis_centroid[b],
-                                ];
+                            let psi = [
+                                local(big_x, a) - self.axis_centroid[a],
+                                local(big_y, b) - self.axis_centroid[b],
+                            ];
                             let q = [
                                 p.inverse[0] * psi[0] + p.inverse[1] * psi[1],
                                 p.inverse[1] * psi[0] + p.inverse[2] * psi[1],

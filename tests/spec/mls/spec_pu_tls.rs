@@ -85,7 +85,10 @@ fn pu_tls_patches_are_the_grids_open_quadratic_bsplines() {
             assert_eq!(shape.first, c);
             let ours = open_quadratic_on_cell(cells, c, x * cells as f64 - c as f64);
             for (a, b) in ours.iter().zip(&shape.values) {
-                assert!((a - b).abs() < 1e-14, "{cells} cells at {x}: {ours:?} vs {b}");
+                assert!(
+                    (a - b).abs() < 1e-14,
+                    "{cells} cells at {x}: {ours:?} vs {b}"
+                );
             }
         }
     }
@@ -132,7 +135,10 @@ fn pu_tls_maps_mass_and_momentum_of_a_random_cloud_to_rounding() {
     let scale: f64 = (0..n)
         .map(|k| p.volume[k] * p.density[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
         .sum();
-    assert!((mapped[0] - mass).abs() <= 1e-13 * mass, "{mapped:?} {mass}");
+    assert!(
+        (mapped[0] - mass).abs() <= 1e-13 * mass,
+        "{mapped:?} {mass}"
+    );
     for d in 0..2 {
         let momentum: f64 = (0..n)
             .map(|k| p.volume[k] * p.density[k] * p.velocity[k][d])
