@@ -11,8 +11,9 @@
 use super::mls::MlsShapes;
 use super::pu_tls::PuTlsShapes;
 use super::reconstruction::GaussReconstruction;
-use super::tls::{BasisRule, TlsShapes};
+use super::tls::{BasisRule, TaylorOrder2d, TlsShapes};
 use crate::error::Result;
+use crate::reconstruct::taylor::DegenerateCells;
 use serde::{Deserialize, Serialize};
 
 /// How particle data reach the grid (MLS paper, "phase 1").
@@ -40,6 +41,10 @@ pub enum Mapping2d {
     /// (TLS paper Eqs. 13–14 with the weights N_e), blended by them at the
     /// Gauss points; conservative and continuous, in both mappings of a step.
     PuTls,
+    /// [`Mapping2d::PuTls`] with quadratic patches (ψ₁ … ψ₆, TLS paper §5.2
+    /// in 2D as [`super::tls`]), reduced to linear, then constant, where
+    /// degenerate.
+    PuTlsQuadratic,
 }
 
 /// What the rest of hompm knows of a mapping: its names and its cost. One
@@ -64,13 +69,14 @@ pub struct MappingInfo {
 
 impl Mapping2d {
     /// Every mapping, in the order the command line lists them.
-    pub const ALL: [Mapping2d; 6] = [
+    pub const ALL: [Mapping2d; 7] = [
         Mapping2d::Direct,
         Mapping2d::Mls,
         Mapping2d::MlsPhase1,
         Mapping2d::Tls,
         Mapping2d::TlsByCount,
         Mapping2d::PuTls,
+        Mapping2d::PuTlsQuadratic,
     ];
 
     /// The registration of a mapping's names and cost.
@@ -116,9 +122,16 @@ impl Mapping2d {
                 label: "PU-TLS",
                 summary: "B-spline MPM with partition-of-unity TLS to the Gauss points, conservative and continuous (hompm's construction; aligned-vibration only)",
                 ns_per_particle_step: 2500.0,
-                // 100 list entries (u32 + f64) per particle, 27 coefficients
+                // 100 list entries (u32 + f64) per particle, 54 coefficients
                 // and 6 basis values.
-                bytes_per_particle: 100.0 * 12.0 + 33.0 * 8.0,
+                bytes_per_particle: 100.0 * 12.0 + 60.0 * 8.0,
+            },
+            Mapping2d::PuTlsQuadratic => MappingInfo {
+                name: "pu-tls-quadratic",
+                label: "PU-TLS-quadratic",
+                summary: "B-spline MPM with partition-of-unity TLS on quadratic patches (hompm's construction; aligned-vibration only)",
+                ns_per_particle_step: 4000.0,
+                bytes_per_particle: 100.0 * 12.0 + 60.0 * 8.0,
             },
         }
     }
@@ -143,6 +156,12 @@ impl Mapping2d {
                 TlsShapes::for_engine(cells, particles)?.with_basis_rule(BasisRule::ParticleCount),
             )),
             Mapping2d::PuTls => Some(Box::new(PuTlsShapes::for_engine(cells, particles)?)),
+            Mapping2d::PuTlsQuadratic => Some(Box::new(PuTlsShapes::new(
+                TaylorOrder2d::Quadratic,
+                DegenerateCells::ReduceBasis,
+                cells,
+                particles,
+            )?)),
         })
     }
 

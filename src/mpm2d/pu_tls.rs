@@ -18,14 +18,18 @@
 //! (X̄_a, Ȳ_b) = Σ_g ω_g N_e(x_g)(X_g, Y_g) / m_e, m_e = Σ_g ω_g N_e(x_g),
 //! the patch basis is ψ₁ = 1, ψ₂ = X − X̄_a, ψ₃ = Y − Ȳ_b: the linear
 //! Taylor basis scaled by h, shifted so that Σ_g ω_g N_e(x_g) ψ_i = m_e δ_i1
-//! (the counterpart of TLS paper Eq. 12 with the weight N_e).
+//! (the counterpart of TLS paper Eq. 12 with the weight N_e). The
+//! quadratic option ([`TaylorOrder2d::Quadratic`], `--method
+//! bsmpm-pu-tls-quadratic`) adds ψ₄ = (dx² − ⟨dx²⟩)/2, ψ₅ = dx dy − ⟨dx⟩⟨dy⟩,
+//! ψ₆ = (dy² − ⟨dy²⟩)/2 with dx = X − a, dy = Y − b and ⟨·⟩ the
+//! N_e-weighted Gauss means, as 2D TLS's ψ₄ … ψ₆ on a cell.
 //!
 //! **The fit on patch e** (weights w_p = N_e(x_p), particle volumes V_p):
-//! f_e = α₁ + α₂ψ₂ + α₃ψ₃ with the constraint
+//! f_e = α₁ + α₂ψ₂ + α₃ψ₃ (+ α₄ψ₄ + α₅ψ₅ + α₆ψ₆) with the constraint
 //! Σ_g ω_g N_e(x_g) f_e(x_g) = Σ_p N_e(x_p) V_p f_p, i.e.
 //! α₁ = Σ_p N_e(x_p) V_p f_p / m_e (TLS paper Eq. 14 with V_p/|Ω_e|
-//! replaced by N_e(x_p)V_p/m_e), and (α₂, α₃) the weighted least squares of
-//! ψ₂, ψ₃ to f_p − α₁ (Eq. 13): D = Σ_p w_p ψ̂_pψ̂_pᵀ, ψ̂ = (ψ₂, ψ₃),
+//! replaced by N_e(x_p)V_p/m_e), and the rest the weighted least squares of
+//! ψ̂ = (ψ₂, ψ₃, …) to f_p − α₁ (Eq. 13): D = Σ_p w_p ψ̂_pψ̂_pᵀ,
 //! U = D⁻¹ Σ_p w_p ψ̂_p. Per particle, with c_pe = N_e(x_p)V_p/m_e,
 //!
 //! f_e(x) = Σ_p f_p [c_pe + (w_p D⁻¹ψ̂_p − c_pe U)·ψ̂(x)].
@@ -50,15 +54,19 @@
 //!
 //! **Degenerate patches** (TLS paper §5.3, as 2D TLS). A patch whose D has
 //! κ₁(D) = ‖D‖₁‖D⁻¹‖₁ above the limit ([`super::tls::TLS_2D_MAX_CONDITION`]
-//! by default) or is singular (fewer than two particles with w_p > 0, or
-//! all on a line through the centroid) is reduced to the constant ψ₁ under
-//! [`DegenerateCells::ReduceBasis`] (the engine's choice; it keeps the
-//! constraint, so it still conserves, and counts in
-//! [`Reconstruction::repaired`]), or is `Error::SingularCell` naming the
-//! patch and its support under [`DegenerateCells::Error`]. A patch without
-//! particles has f_e = 0, exactly its particles' sum. The reduction is the
-//! one place φ_gp may jump; the sparse patches at a free surface would meet
-//! it, the aligned vibration's full square does not (κ is reported).
+//! by default) or is singular (a linear fit with fewer than two particles
+//! of w_p > 0, or all on a line through the centroid) is reduced,
+//! quadratic → linear → constant, under [`DegenerateCells::ReduceBasis`]
+//! (the engine's choice, as 2D TLS; the reduction keeps the constraint, so
+//! it still conserves, and counts in [`Reconstruction::repaired`]), or is
+//! `Error::SingularCell` naming the patch and its support under
+//! [`DegenerateCells::Error`]. A patch without particles has f_e = 0,
+//! exactly its particles' sum. The reduction is the one place φ_gp may
+//! jump. The aligned vibration's full square meets it only once its
+//! particles have drifted from the exact motion and left a wall row of
+//! cells nearly empty (8 and 32 cells, docs/reproduction-notes.md "A
+//! conservative reconstruction that is continuous"); κ₁ and the reduced
+//! patches are reported.
 //!
 //! Items: [`open_quadratic_on_cell`], [`PuTlsShapes`].
 
@@ -66,9 +74,10 @@ use super::particles::Particles2d;
 use super::reconstruction::{
     GaussGrid, GaussReconstruction, Reconstruction, ShapeBuffers, ShapeLists,
 };
-use super::tls::TLS_2D_MAX_CONDITION;
+use super::tls::{TaylorOrder2d, TLS_2D_MAX_CONDITION};
 use crate::error::{Error, Result};
 use crate::reconstruct::taylor::DegenerateCells;
+use nalgebra::SMatrix;
 
 /// The three open-uniform quadratic B-splines N_c, N_{c+1}, N_{c+2} that are
 /// non-zero on cell c of `cells` unit cells, at t = X − c ∈ [0, 1] (clamped):
@@ -91,17 +100,80 @@ pub fn open_quadratic_on_cell(cells: usize, cell: usize, t: f64) -> [f64; 3] {
     [first, 1.0 - first - last, last]
 }
 
-/// One patch's sums and solution: D (xx, xy, yy), Σ w ψ̂, the number of
-/// particles with w > 0, D⁻¹ (xx, xy, yy), U = D⁻¹Σ w ψ̂, and whether the
-/// patch was reduced to the constant.
+/// The most fitted functions of a patch: ψ₂ … ψ₆ of the quadratic basis.
+const FITTED: usize = 5;
+
+/// X − a, exact for a ≥ 4 (Sterbenz) on supp N_a = [a − 2, a + 1]: ψ then
+/// rounds at the size of ψ, not of X (with X, Σ_g ω_g N_e ψ₂ = 0 held only
+/// to ε·X and the mapped mass drifted by ~ε·cells, 1e-13 on 32 cells).
+fn local(big_x: f64, a: usize) -> f64 {
+    big_x - a as f64
+}
+
+/// The 1D Gauss moments of N_a: its mass Σ_g ½N_a(X_g) and the N_a-weighted
+/// means of (X − a) and (X − a)².
+#[derive(Debug, Clone, Copy, Default)]
+struct AxisMoments {
+    mass: f64,
+    mean: f64,
+    mean_square: f64,
+}
+
+/// ψ₂ … ψ₆ of patch (a, b) at offsets dx = X − a, dy = Y − b, each minus its
+/// N_e-weighted Gauss mean (the means of a product are products, N_e and the
+/// Gauss grid being tensor products).
+fn fitted_functions(dx: f64, dy: f64, a: &AxisMoments, b: &AxisMoments) -> [f64; FITTED] {
+    [
+        dx - a.mean,
+        dy - b.mean,
+        0.5 * (dx * dx - a.mean_square),
+        dx * dy - a.mean * b.mean,
+        0.5 * (dy * dy - b.mean_square),
+    ]
+}
+
+/// One patch's sums and solution: D = Σ w ψ̂ψ̂ᵀ and Σ w ψ̂ over the
+/// fitted functions, the particles with w > 0, the fitted functions kept
+/// (5, 2 or 0), D⁻¹ and U = D⁻¹Σ w ψ̂ on them.
 #[derive(Debug, Clone, Copy, Default)]
 struct Patch {
-    d: [f64; 3],
-    g: [f64; 2],
+    d: [[f64; FITTED]; FITTED],
+    g: [f64; FITTED],
     count: usize,
-    inverse: [f64; 3],
-    u: [f64; 2],
-    constant: bool,
+    fitted: usize,
+    inverse: [[f64; FITTED]; FITTED],
+    u: [f64; FITTED],
+}
+
+impl Patch {
+    /// κ₁(D) of the leading `M` functions (∞ if D is singular); keeps
+    /// D⁻¹ and U = D⁻¹Σ w ψ̂ on them if κ₁ is at most `limit`.
+    fn fit<const M: usize>(&mut self, limit: f64) -> f64 {
+        let d = SMatrix::<f64, M, M>::from_fn(|i, j| self.d[i][j]);
+        let Some(inverse) = d.try_inverse() else {
+            return f64::INFINITY;
+        };
+        let norm1 = |m: &SMatrix<f64, M, M>| {
+            (0..M)
+                .map(|j| (0..M).map(|i| m[(i, j)].abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        let kappa = norm1(&d) * norm1(&inverse);
+        if kappa <= limit {
+            self.fitted = M;
+            for i in 0..M {
+                self.u[i] = (0..M).map(|j| inverse[(i, j)] * self.g[j]).sum();
+                for j in 0..M {
+                    self.inverse[i][j] = inverse[(i, j)];
+                }
+            }
+        }
+        if kappa.is_finite() {
+            kappa
+        } else {
+            f64::INFINITY
+        }
+    }
 }
 
 /// The PU-TLS shape functions at the Gauss points (module doc), with every
@@ -109,8 +181,8 @@ struct Patch {
 #[derive(Debug, Clone)]
 pub struct PuTlsShapes {
     cells: usize,
+    order: TaylorOrder2d,
     degenerate: DegenerateCells,
-    max_condition: f64,
     shapes: ShapeBuffers,
     largest_condition: f64,
     repaired: usize,
@@ -120,25 +192,29 @@ pub struct PuTlsShapes {
     bin_particles: Vec<u32>,
     /// The 1D functions at each Gauss abscissa (X units), three per point.
     gauss_values: Vec<[f64; 3]>,
-    /// Σ_g ½ N_a(X_g) per 1D function a (m_e = h² ·mass_a·mass_b).
-    axis_mass: Vec<f64>,
-    /// X̄_a − a per 1D function a: the N_a-weighted Gauss centroid,
-    /// relative to the integer a (see [`local`]).
-    axis_centroid: Vec<f64>,
+    /// The Gauss moments of every 1D function.
+    axis: Vec<AxisMoments>,
     patches: Vec<Patch>,
     /// Per slot: the 1D values along x and y.
     slot_values: Vec<[[f64; 3]; 2]>,
-    /// Per slot and patch i + 3j of its cell: [c_pe, B_x, B_y].
-    coefficients: Vec<[[f64; 3]; 9]>,
+    /// Per slot and patch i + 3j of its cell: [c_pe, B₂, …, B₆].
+    coefficients: Vec<[[f64; FITTED + 1]; 9]>,
     /// φ of the four Gauss points of a cell for the particles of its block.
     local_phi: Vec<[f64; 4]>,
 }
 
 impl PuTlsShapes {
-    /// Buffers for `particles` particles on `cells`² cells, under the
-    /// degenerate-patch policy `degenerate` (`Error` or `ReduceBasis`;
-    /// virtual points have no 2D form, as in 2D TLS, and are refused).
-    pub fn new(degenerate: DegenerateCells, cells: usize, particles: usize) -> Result<Self> {
+    /// Buffers for `particles` particles on `cells`² cells, with the patch
+    /// basis `order` (linear: ψ₁ … ψ₃; quadratic: ψ₁ … ψ₆; constant: ψ₁
+    /// alone) under the degenerate-patch policy `degenerate` (`Error` or
+    /// `ReduceBasis`; virtual points have no 2D form, as in 2D TLS, and are
+    /// refused).
+    pub fn new(
+        order: TaylorOrder2d,
+        degenerate: DegenerateCells,
+        cells: usize,
+        particles: usize,
+    ) -> Result<Self> {
         if degenerate == DegenerateCells::VirtualPoints {
             return Err(Error::InvalidArgument(
                 "PU-TLS repairs degenerate patches by reducing the basis or refuses them; virtual points are 1D only".into(),
@@ -160,8 +236,8 @@ impl PuTlsShapes {
         let entries = 100 * particles;
         Ok(Self {
             cells,
+            order,
             degenerate,
-            max_condition: TLS_2D_MAX_CONDITION,
             shapes: ShapeBuffers {
                 start: vec![0; gauss_points],
                 end: vec![0; gauss_points],
@@ -173,26 +249,23 @@ impl PuTlsShapes {
             bin_start: vec![0; cells * cells + 2],
             bin_particles: vec![0; particles],
             gauss_values: vec![[0.0; 3]; 2 * cells],
-            axis_mass: vec![0.0; functions],
-            axis_centroid: vec![0.0; functions],
+            axis: vec![AxisMoments::default(); functions],
             patches: vec![Patch::default(); functions * functions],
             slot_values: vec![[[0.0; 3]; 2]; particles],
-            coefficients: vec![[[0.0; 3]; 9]; particles],
+            coefficients: vec![[[0.0; FITTED + 1]; 9]; particles],
             // A block holds at most every particle: never reallocated.
             local_phi: Vec::with_capacity(particles),
         })
     }
 
-    /// The engine's PU-TLS: reduced-basis repair.
+    /// The engine's PU-TLS: linear patches, reduced-basis repair.
     pub fn for_engine(cells: usize, particles: usize) -> Result<Self> {
-        Self::new(DegenerateCells::ReduceBasis, cells, particles)
-    }
-
-    /// The same with another κ₁(D) limit of a degenerate patch (default
-    /// [`TLS_2D_MAX_CONDITION`]).
-    pub fn with_max_condition(mut self, limit: f64) -> Self {
-        self.max_condition = limit;
-        self
+        Self::new(
+            TaylorOrder2d::Linear,
+            DegenerateCells::ReduceBasis,
+            cells,
+            particles,
+        )
     }
 
     /// Bins the particles by cell (a counting sort into preallocated
@@ -223,46 +296,37 @@ impl PuTlsShapes {
         }
         Ok(())
     }
-}
 
-/// X − a: a coordinate relative to the integer a of the function N_a whose
-/// support [a − 2, a + 1] holds it. The difference is exact for a ≥ 4
-/// (Sterbenz), so ψ₂ = (X − a) − (X̄_a − a) carries rounding of the size of
-/// ψ₂, not of X: with X itself, Σ_g ω_g N_e ψ₂ = 0 held only to ε·X, and
-/// the mapped mass drifted by ~ε·cells (1e-13 on 32 cells).
-fn local(big_x: f64, a: usize) -> f64 {
-    big_x - a as f64
-}
-
-/// The four Gauss points of a cell in [`super::reconstruction::storage_order`].
-const QUAD: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
-
-impl PuTlsShapes {
-    /// The 1D functions at the Gauss abscissae, their Gauss masses
-    /// Σ_g ½N_a(X_g) and the centroids X̄_a (module doc, "Patches").
+    /// The 1D functions at the Gauss abscissae and their Gauss moments
+    /// (module doc, "Patches").
     fn axis_moments(&mut self, gauss: &GaussGrid) {
         let (n, h) = (self.cells, gauss.cell_size);
-        self.axis_mass.iter_mut().for_each(|m| *m = 0.0);
-        self.axis_centroid.iter_mut().for_each(|c| *c = 0.0);
+        self.axis
+            .iter_mut()
+            .for_each(|m| *m = AxisMoments::default());
         for (gx, &x) in gauss.abscissae.iter().enumerate() {
             let (c, big_x) = (gx / 2, x / h);
             let v = open_quadratic_on_cell(n, c, big_x - c as f64);
             self.gauss_values[gx] = v;
             for (i, vi) in v.iter().enumerate() {
-                self.axis_mass[c + i] += 0.5 * vi;
-                self.axis_centroid[c + i] += 0.5 * vi * local(big_x, c + i);
+                let (m, dx) = (&mut self.axis[c + i], local(big_x, c + i));
+                m.mass += 0.5 * vi;
+                m.mean += 0.5 * vi * dx;
+                m.mean_square += 0.5 * vi * dx * dx;
             }
         }
-        for (c, m) in self.axis_centroid.iter_mut().zip(&self.axis_mass) {
-            *c /= m;
+        for m in self.axis.iter_mut() {
+            m.mean /= m.mass;
+            m.mean_square /= m.mass;
         }
     }
 
     /// The sums D and Σ w ψ̂ of every patch, then its D⁻¹ and U, or its
-    /// reduction to the constant (module doc, "Degenerate patches").
+    /// reduction (module doc, "Degenerate patches").
     fn fit_patches(&mut self, particles: &Particles2d, h: f64) -> Result<()> {
         let n = self.cells;
         let nf = n + 2;
+        let m = self.order.functions() - 1;
         self.patches.iter_mut().for_each(|p| *p = Patch::default());
         for c in 0..n * n {
             let (cx, cy) = (c % n, c / n);
@@ -274,67 +338,78 @@ impl PuTlsShapes {
                 self.slot_values[s] = [vx, vy];
                 for (j, wy) in vy.iter().enumerate() {
                     for (i, wx) in vx.iter().enumerate() {
+                        let (a, b) = (cx + i, cy + j);
                         let w = wx * wy;
-                        let psi = [
-                            local(big_x, cx + i) - self.axis_centroid[cx + i],
-                            local(big_y, cy + j) - self.axis_centroid[cy + j],
-                        ];
-                        let p = &mut self.patches[(cx + i) + nf * (cy + j)];
-                        p.d[0] += w * psi[0] * psi[0];
-                        p.d[1] += w * psi[0] * psi[1];
-                        p.d[2] += w * psi[1] * psi[1];
-                        p.g[0] += w * psi[0];
-                        p.g[1] += w * psi[1];
+                        let psi = fitted_functions(
+                            local(big_x, a),
+                            local(big_y, b),
+                            &self.axis[a],
+                            &self.axis[b],
+                        );
+                        let p = &mut self.patches[a + nf * b];
+                        for r in 0..m {
+                            p.g[r] += w * psi[r];
+                            for q in r..m {
+                                p.d[r][q] += w * psi[r] * psi[q];
+                            }
+                        }
                         p.count += usize::from(w > 0.0);
                     }
                 }
             }
         }
-        let norm = |m: &[f64; 3]| (m[0].abs() + m[1].abs()).max(m[1].abs() + m[2].abs());
-        for (e, p) in self.patches.iter_mut().enumerate() {
-            p.constant = true;
+        for e in 0..self.patches.len() {
+            let p = &mut self.patches[e];
             if p.count == 0 {
                 continue;
             }
-            let d = p.d;
-            let det = d[0] * d[2] - d[1] * d[1];
-            let inverse = [d[2] / det, -d[1] / det, d[0] / det];
-            let kappa = norm(&d) * norm(&inverse);
-            if det > 0.0 && kappa.is_finite() && kappa <= self.max_condition {
-                p.constant = false;
-                p.inverse = inverse;
-                p.u = [
-                    inverse[0] * p.g[0] + inverse[1] * p.g[1],
-                    inverse[1] * p.g[0] + inverse[2] * p.g[1],
-                ];
-                self.largest_condition = self.largest_condition.max(kappa);
-                continue;
+            for r in 0..m {
+                for q in 0..r {
+                    p.d[r][q] = p.d[q][r];
+                }
             }
-            if self.degenerate != DegenerateCells::ReduceBasis {
-                let (a, b) = (e % nf, e / nf);
-                let support =
-                    |i: usize| (i.saturating_sub(2) as f64 * h, (i + 1).min(n) as f64 * h);
-                let ((x0, x1), (y0, y1)) = (support(a), support(b));
-                return Err(Error::SingularCell {
-                    cell: vec![a, b],
-                    lower: vec![x0, y0],
-                    upper: vec![x1, y1],
-                    detail: format!(
-                        "the PU-TLS patch of B-spline ({a}, {b}) has {} particles with a positive weight for the linear basis, κ₁(D) = {:e} > {:e}",
-                        p.count,
-                        if kappa.is_finite() { kappa } else { f64::INFINITY },
-                        self.max_condition
-                    ),
-                });
-            }
-            self.repaired += 1;
-            self.largest_condition = self.largest_condition.max(1.0);
+            let mut order = self.order;
+            let kappa = loop {
+                let kappa = match order {
+                    TaylorOrder2d::Quadratic => p.fit::<FITTED>(TLS_2D_MAX_CONDITION),
+                    TaylorOrder2d::Linear => p.fit::<2>(TLS_2D_MAX_CONDITION),
+                    TaylorOrder2d::Constant => 1.0,
+                };
+                if kappa <= TLS_2D_MAX_CONDITION {
+                    break kappa;
+                }
+                match (self.degenerate, order.reduced()) {
+                    (DegenerateCells::ReduceBasis, Some(lower)) => order = lower,
+                    _ => return Err(self.singular_patch(e, order, kappa, h)),
+                }
+            };
+            self.largest_condition = self.largest_condition.max(kappa);
+            self.repaired += usize::from(order < self.order);
         }
         Ok(())
     }
 
-    /// Per slot and patch, [c_pe, B_x, B_y] with
-    /// B = w_p D⁻¹ψ̂_p − c_pe U (zero for a constant patch).
+    /// `Error::SingularCell` for patch e: the B-spline's indices and its
+    /// support.
+    fn singular_patch(&self, e: usize, order: TaylorOrder2d, kappa: f64, h: f64) -> Error {
+        let (n, nf) = (self.cells, self.cells + 2);
+        let (a, b) = (e % nf, e / nf);
+        let support = |i: usize| (i.saturating_sub(2) as f64 * h, (i + 1).min(n) as f64 * h);
+        let ((x0, x1), (y0, y1)) = (support(a), support(b));
+        Error::SingularCell {
+            cell: vec![a, b],
+            lower: vec![x0, y0],
+            upper: vec![x1, y1],
+            detail: format!(
+                "the PU-TLS patch of B-spline ({a}, {b}) has {} particles with a positive weight for the {order:?} basis, κ₁(D) = {kappa:e} > {:e}",
+                self.patches[e].count,
+                TLS_2D_MAX_CONDITION
+            ),
+        }
+    }
+
+    /// Per slot and patch, [c_pe, B] with B = w_p D⁻¹ψ̂_p − c_pe U on the
+    /// fitted functions kept (zero beyond them).
     fn particle_coefficients(&mut self, particles: &Particles2d, h: f64) {
         let n = self.cells;
         let nf = n + 2;
@@ -351,22 +426,23 @@ impl PuTlsShapes {
                         let (a, b) = (cx + i, cy + j);
                         let p = &self.patches[a + nf * b];
                         let w = wx * wy;
-                        let m = h * h * self.axis_mass[a] * self.axis_mass[b];
+                        let m = h * h * self.axis[a].mass * self.axis[b].mass;
                         let share = w * volume / m;
-                        let bxy = if p.constant {
-                            [0.0; 2]
-                        } else {
-                            let psi = [
-                                local(big_x, a) - self.axis_centroid[a],
-                                local(big_y, b) - self.axis_centroid[b],
-                            ];
-                            let q = [
-                                p.inverse[0] * psi[0] + p.inverse[1] * psi[1],
-                                p.inverse[1] * psi[0] + p.inverse[2] * psi[1],
-                            ];
-                            [w * q[0] - share * p.u[0], w * q[1] - share * p.u[1]]
-                        };
-                        self.coefficients[s][i + 3 * j] = [share, bxy[0], bxy[1]];
+                        let mut out = [0.0; FITTED + 1];
+                        out[0] = share;
+                        if p.fitted > 0 {
+                            let psi = fitted_functions(
+                                local(big_x, a),
+                                local(big_y, b),
+                                &self.axis[a],
+                                &self.axis[b],
+                            );
+                            for r in 0..p.fitted {
+                                let q: f64 = (0..p.fitted).map(|t| p.inverse[r][t] * psi[t]).sum();
+                                out[1 + r] = w * q - share * p.u[r];
+                            }
+                        }
+                        self.coefficients[s][i + 3 * j] = out;
                     }
                 }
             }
@@ -374,8 +450,9 @@ impl PuTlsShapes {
     }
 
     /// φ_gp of the four Gauss points of cell (cx, cy) over the particles of
-    /// the 5×5 cells around it, appended to the lists.
-    fn emit_cell(&mut self, gauss: &GaussGrid, cx: usize, cy: usize) {
+    /// the 5×5 cells around it, appended to the lists; `K` = 1 + the most
+    /// fitted functions.
+    fn emit_cell<const K: usize>(&mut self, gauss: &GaussGrid, cx: usize, cy: usize) {
         let (n, h) = (self.cells, gauss.cell_size);
         let (x0, x1) = (cx.saturating_sub(2), (cx + 2).min(n - 1));
         let (y0, y1) = (cy.saturating_sub(2), (cy + 2).min(n - 1));
@@ -394,15 +471,21 @@ impl PuTlsShapes {
         for j in 0..3 {
             for i in 0..3 {
                 let (a, b) = (cx + i, cy + j);
-                // N_e(x_g)·(1, ψ₂(x_g), ψ₃(x_g)) at the four points.
+                // N_e(x_g)·(1, ψ₂(x_g), …) at the four points.
                 let factors = QUAD.map(|(qi, qj)| {
                     let (gx, gy) = (2 * cx + qi, 2 * cy + qj);
                     let value = self.gauss_values[gx][i] * self.gauss_values[gy][j];
-                    [
-                        value,
-                        value * (local(gauss.abscissae[gx] / h, a) - self.axis_centroid[a]),
-                        value * (local(gauss.abscissae[gy] / h, b) - self.axis_centroid[b]),
-                    ]
+                    let psi = fitted_functions(
+                        local(gauss.abscissae[gx] / h, a),
+                        local(gauss.abscissae[gy] / h, b),
+                        &self.axis[a],
+                        &self.axis[b],
+                    );
+                    let mut f = [value; K];
+                    for (r, fr) in f.iter_mut().enumerate().skip(1) {
+                        *fr = value * psi[r - 1];
+                    }
+                    f
                 });
                 for by in b.saturating_sub(2)..=b.min(n - 1) {
                     for bx in a.saturating_sub(2)..=a.min(n - 1) {
@@ -413,7 +496,7 @@ impl PuTlsShapes {
                         for (phi, s) in out.iter_mut().zip(slots) {
                             let cf = &self.coefficients[s][patch];
                             for (v, f) in phi.iter_mut().zip(&factors) {
-                                *v += cf[0] * f[0] + cf[1] * f[1] + cf[2] * f[2];
+                                *v += (0..K).map(|r| cf[r] * f[r]).sum::<f64>();
                             }
                         }
                     }
@@ -438,6 +521,9 @@ impl PuTlsShapes {
         }
     }
 }
+
+/// The four Gauss points of a cell in [`super::reconstruction::storage_order`].
+const QUAD: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 impl Reconstruction for PuTlsShapes {
     fn name(&self) -> &'static str {
@@ -480,15 +566,10 @@ impl GaussReconstruction for PuTlsShapes {
                 cell_y.len()
             )));
         }
-        if count > u32::MAX as usize {
-            return Err(Error::InvalidArgument(format!(
-                "{count} particles is more than the PU-TLS lists index"
-            )));
-        }
         // Allocates only when the particle count changed since `new`.
         self.bin_particles.resize(count, 0);
         self.slot_values.resize(count, [[0.0; 3]; 2]);
-        self.coefficients.resize(count, [[0.0; 3]; 9]);
+        self.coefficients.resize(count, [[0.0; FITTED + 1]; 9]);
         self.largest_condition = 0.0;
         self.repaired = 0;
         self.bin(cell_x, cell_y)?;
@@ -497,9 +578,14 @@ impl GaussReconstruction for PuTlsShapes {
         self.particle_coefficients(particles, h);
         self.shapes.particle.clear();
         self.shapes.phi.clear();
+        let k = self.order.functions();
         for cy in 0..n {
             for cx in 0..n {
-                self.emit_cell(gauss, cx, cy);
+                match k {
+                    1 => self.emit_cell::<1>(gauss, cx, cy),
+                    3 => self.emit_cell::<3>(gauss, cx, cy),
+                    _ => self.emit_cell::<{ FITTED + 1 }>(gauss, cx, cy),
+                }
             }
         }
         Ok(())

@@ -10,7 +10,7 @@ use approx::assert_relative_eq;
 use hompm::error::Error;
 use hompm::mpm2d::pu_tls::{open_quadratic_on_cell, PuTlsShapes};
 use hompm::mpm2d::reconstruction::{GaussGrid, GaussReconstruction, Reconstruction};
-use hompm::mpm2d::tls::TlsShapes;
+use hompm::mpm2d::tls::{TaylorOrder2d, TlsShapes};
 use hompm::mpm2d::{Basis2d, Grid2d, Mapping2d, Particles2d};
 use hompm::reconstruct::taylor::DegenerateCells;
 use hompm::rng::SplitMix64;
@@ -98,7 +98,8 @@ fn pu_tls_patches_are_the_grids_open_quadratic_bsplines() {
 /// mapped mass Σ_g ω_g Σ_p φ_gp ρ_p and momentum Σ_g ω_g Σ_p φ_gp ρ_p v_p
 /// equal Σ_p V_p ρ_p and Σ_p V_p ρ_p v_p to ≤ 1e-13 relative, on a random
 /// cloud of random densities and velocities (6 × 6 cells, 9 particles per
-/// cell jittered by up to 90 % of their spacing, varied volumes).
+/// cell jittered by up to 90 % of their spacing, varied volumes), with
+/// linear and with quadratic patches.
 #[test]
 fn pu_tls_maps_mass_and_momentum_of_a_random_cloud_to_rounding() {
     let cells = 6;
@@ -110,56 +111,80 @@ fn pu_tls_maps_mass_and_momentum_of_a_random_cloud_to_rounding() {
         p.density[k] = rng.open_interval(500.0, 2000.0);
         p.velocity[k] = [rng.open_interval(-3.0, 3.0), rng.open_interval(-3.0, 3.0)];
     }
-    let mut shapes = PuTlsShapes::for_engine(cells, n).unwrap();
-    let grid = evaluate(&mut shapes, &p, cells).unwrap();
-    assert_eq!(shapes.repaired(), 0);
-    let omega = grid.gauss_weight();
-    let lists = shapes.lists();
-    let mut carried = vec![0.0; n];
-    let mut mapped = [0.0; 3];
-    for g in 0..lists.start.len() {
-        for e in lists.start[g]..lists.end[g] {
-            let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
-            carried[k] += omega * phi;
-            let rho = p.density[k];
-            let value = [rho, rho * p.velocity[k][0], rho * p.velocity[k][1]];
-            for (m, v) in mapped.iter_mut().zip(value) {
-                *m += omega * phi * v;
+    for order in [TaylorOrder2d::Linear, TaylorOrder2d::Quadratic] {
+        let mut shapes = PuTlsShapes::new(order, DegenerateCells::ReduceBasis, cells, n).unwrap();
+        let grid = evaluate(&mut shapes, &p, cells).unwrap();
+        assert_eq!(shapes.repaired(), 0, "{order:?}");
+        let omega = grid.gauss_weight();
+        let lists = shapes.lists();
+        let mut carried = vec![0.0; n];
+        let mut mapped = [0.0; 3];
+        for g in 0..lists.start.len() {
+            for e in lists.start[g]..lists.end[g] {
+                let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
+                carried[k] += omega * phi;
+                let rho = p.density[k];
+                let value = [rho, rho * p.velocity[k][0], rho * p.velocity[k][1]];
+                for (m, v) in mapped.iter_mut().zip(value) {
+                    *m += omega * phi * v;
+                }
             }
         }
-    }
-    for (k, c) in carried.iter().enumerate() {
-        assert_relative_eq!(*c, p.volume[k], max_relative = 1e-13);
-    }
-    let mass: f64 = (0..n).map(|k| p.volume[k] * p.density[k]).sum();
-    let scale: f64 = (0..n)
-        .map(|k| p.volume[k] * p.density[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
-        .sum();
-    assert!(
-        (mapped[0] - mass).abs() <= 1e-13 * mass,
-        "{mapped:?} {mass}"
-    );
-    for d in 0..2 {
-        let momentum: f64 = (0..n)
-            .map(|k| p.volume[k] * p.density[k] * p.velocity[k][d])
+        for (k, c) in carried.iter().enumerate() {
+            assert_relative_eq!(*c, p.volume[k], max_relative = 1e-13);
+        }
+        let mass: f64 = (0..n).map(|k| p.volume[k] * p.density[k]).sum();
+        let scale: f64 = (0..n)
+            .map(|k| p.volume[k] * p.density[k] * p.velocity[k][0].hypot(p.velocity[k][1]))
             .sum();
         assert!(
-            (mapped[1 + d] - momentum).abs() <= 1e-13 * scale,
-            "{d}: {} vs {momentum}",
-            mapped[1 + d]
+            (mapped[0] - mass).abs() <= 1e-13 * mass,
+            "{mapped:?} {mass}"
         );
+        for d in 0..2 {
+            let momentum: f64 = (0..n)
+                .map(|k| p.volume[k] * p.density[k] * p.velocity[k][d])
+                .sum();
+            assert!(
+                (mapped[1 + d] - momentum).abs() <= 1e-13 * scale,
+                "{order:?} {d}: {} vs {momentum}",
+                mapped[1 + d]
+            );
+        }
     }
 }
 
-/// With the particles at the 3×3 Gauss points of every cell and the Gauss
-/// weights as volumes, Σ_p N_e(x_p) V_p f(x_p) is ∫ N_e f for a linear f
-/// (a cubic per axis), so each patch's constraint and fit give f_e = f and
-/// the blend Σ_e N_e f = f at every Gauss point (≤ 1e-12). A quadratic is
-/// not reproduced: the fit is linear.
-#[test]
-fn pu_tls_reproduces_a_linear_field_whose_particle_sums_are_its_integrals() {
-    let cells = 4;
-    let rule = hompm::quadrature::GaussLegendre::new(3).unwrap();
+/// The largest error of Σ_p φ_gp f(x_p) against f(x_g) over the Gauss
+/// points of the cells `inner` .. cells − `inner` on each axis.
+fn worst_at_gauss_points(
+    shapes: &dyn GaussReconstruction,
+    grid: &Grid2d,
+    p: &Particles2d,
+    inner: usize,
+    f: &dyn Fn(f64, f64) -> f64,
+) -> f64 {
+    let lists = shapes.lists();
+    let (a, ng) = (grid.gauss_abscissae(), 2 * grid.cells_per_side());
+    let mut worst: f64 = 0.0;
+    for gy in 2 * inner..ng - 2 * inner {
+        for gx in 2 * inner..ng - 2 * inner {
+            let g = gx + ng * gy;
+            let value: f64 = (lists.start[g]..lists.end[g])
+                .map(|e| {
+                    let k = lists.particle[e] as usize;
+                    lists.phi[e] * f(p.x[k][0], p.x[k][1])
+                })
+                .sum();
+            worst = worst.max((value - f(a[gx], a[gy])).abs());
+        }
+    }
+    worst
+}
+
+/// Particles at the `points`×`points` Gauss points of each of `cells`²
+/// cells, the Gauss weights as volumes.
+fn at_gauss_points(cells: usize, points: usize) -> Particles2d {
+    let rule = hompm::quadrature::GaussLegendre::new(points).unwrap();
     let (mut positions, mut volumes) = (Vec::new(), Vec::new());
     let h = 1.0 / cells as f64;
     for cy in 0..cells {
@@ -173,32 +198,39 @@ fn pu_tls_reproduces_a_linear_field_whose_particle_sums_are_its_integrals() {
         }
     }
     let n = positions.len();
-    let p = Particles2d::new(positions, volumes, 1000.0, vec![[0.0; 2]; n]).unwrap();
-    let mut shapes = PuTlsShapes::for_engine(cells, n).unwrap();
-    let grid = evaluate(&mut shapes, &p, cells).unwrap();
+    Particles2d::new(positions, volumes, 1000.0, vec![[0.0; 2]; n]).unwrap()
+}
+
+/// With the particles at the 3×3 Gauss points of every cell and the Gauss
+/// weights as volumes, Σ_p N_e(x_p) V_p f(x_p) is ∫ N_e f for a linear f
+/// (a cubic per axis), so each patch's constraint and fit give f_e = f and
+/// the blend Σ_e N_e f = f at every Gauss point (≤ 1e-12). A quadratic is
+/// not reproduced by linear patches. With the particles at the grid's own
+/// 2×2 Gauss points, the constraint's two sums are the same sum, and
+/// quadratic patches reproduce a quadratic wherever every patch is
+/// quadratic (away from the walls, where the patches of one-cell supports
+/// see two abscissae per axis and are reduced to linear).
+#[test]
+fn pu_tls_reproduces_the_fields_of_its_patch_basis_whose_particle_sums_are_integrals() {
     let linear = |x: f64, y: f64| 0.7 - 1.3 * x + 2.1 * y;
-    let quadratic = |x: f64, y: f64| linear(x, y) + 0.9 * x * x - 1.7 * x * y;
-    let (a, ng) = (grid.gauss_abscissae(), 2 * cells);
-    let worst = |f: &dyn Fn(f64, f64) -> f64| {
-        let lists = shapes.lists();
-        let mut worst: f64 = 0.0;
-        for gy in 0..ng {
-            for gx in 0..ng {
-                let g = gx + ng * gy;
-                let value: f64 = (lists.start[g]..lists.end[g])
-                    .map(|e| {
-                        let k = lists.particle[e] as usize;
-                        lists.phi[e] * f(p.x[k][0], p.x[k][1])
-                    })
-                    .sum();
-                worst = worst.max((value - f(a[gx], a[gy])).abs());
-            }
-        }
-        worst
-    };
-    let (lin, quad) = (worst(&linear), worst(&quadratic));
+    let quadratic = |x: f64, y: f64| linear(x, y) + 0.9 * x * x - 1.7 * x * y + 0.4 * y * y;
+    let p = at_gauss_points(4, 3);
+    let mut shapes = PuTlsShapes::for_engine(4, p.len()).unwrap();
+    let grid = evaluate(&mut shapes, &p, 4).unwrap();
+    let lin = worst_at_gauss_points(&shapes, &grid, &p, 0, &linear);
+    let quad = worst_at_gauss_points(&shapes, &grid, &p, 0, &quadratic);
     assert!(lin <= 1e-12, "linear: {lin:e}");
     assert!(quad > 1e-4, "quadratic: {quad:e}");
+    let p = at_gauss_points(5, 2);
+    for (order, exact) in [
+        (TaylorOrder2d::Quadratic, true),
+        (TaylorOrder2d::Linear, false),
+    ] {
+        let mut shapes = PuTlsShapes::new(order, DegenerateCells::ReduceBasis, 5, p.len()).unwrap();
+        let grid = evaluate(&mut shapes, &p, 5).unwrap();
+        let worst = worst_at_gauss_points(&shapes, &grid, &p, 1, &quadratic);
+        assert_eq!(worst <= 1e-12, exact, "{order:?}: {worst:e}");
+    }
 }
 
 /// The largest change of any φ_gp when one particle moves from x = 0.5 − δ
@@ -265,7 +297,8 @@ fn a_patch_without_a_linear_fit_is_refused_by_name_or_reduced_conservatively() {
         vec![[0.0; 2]; n],
     )
     .unwrap();
-    let mut strict = PuTlsShapes::new(DegenerateCells::Error, cells, n).unwrap();
+    let mut strict =
+        PuTlsShapes::new(TaylorOrder2d::Linear, DegenerateCells::Error, cells, n).unwrap();
     match evaluate(&mut strict, &p, cells) {
         Err(Error::SingularCell {
             cell,
@@ -294,7 +327,13 @@ fn a_patch_without_a_linear_fit_is_refused_by_name_or_reduced_conservatively() {
     for (k, c) in carried.iter().enumerate() {
         assert_relative_eq!(*c, p.volume[k], max_relative = 1e-13);
     }
-    assert!(PuTlsShapes::new(DegenerateCells::VirtualPoints, cells, n).is_err());
+    assert!(PuTlsShapes::new(
+        TaylorOrder2d::Linear,
+        DegenerateCells::VirtualPoints,
+        cells,
+        n
+    )
+    .is_err());
 }
 
 /// The step with PU-TLS in both mappings keeps mass and momentum to
