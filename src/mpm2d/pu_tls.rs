@@ -4,8 +4,8 @@
 //! positions. 2D TLS ([`super::tls`]) fits each cell on its own, so its
 //! φ_gp jump when a particle crosses a cell edge; MLS ([`super::mls`]) is
 //! continuous but not conservative. This module blends constrained linear
-//! fits, one per function of the grid's quadratic B-spline basis, by that
-//! basis. **The blend is hompm's construction, not a paper's**: its pieces
+//! (or quadratic) fits, one per function of the grid's quadratic B-spline
+//! basis, by that basis. **The blend is hompm's construction, not a paper's**: its pieces
 //! are the TLS paper's conservative fit (§5.2–5.5, Eqs. 13–14: a
 //! least-squares fit whose first coefficient is fixed by the particles'
 //! integral) and the MLS paper's route to the grid (Eqs. 18–25: values at
@@ -53,8 +53,8 @@
 //! positions while every patch keeps its basis.
 //!
 //! **Degenerate patches** (TLS paper §5.3, as 2D TLS). A patch whose D has
-//! κ₁(D) = ‖D‖₁‖D⁻¹‖₁ above the limit ([`super::tls::TLS_2D_MAX_CONDITION`]
-//! by default) or is singular (a linear fit with fewer than two particles
+//! κ₁(D) = ‖D‖₁‖D⁻¹‖₁ above 2D TLS's limit
+//! ([`super::tls::TLS_2D_MAX_CONDITION`], 1e10) or is singular (a linear fit with fewer than two particles
 //! of w_p > 0, or all on a line through the centroid) is reduced,
 //! quadratic → linear → constant, under [`DegenerateCells::ReduceBasis`]
 //! (the engine's choice, as 2D TLS; the reduction keeps the constraint, so
