@@ -130,6 +130,7 @@ fn a_steady_2d_step_allocates_nothing() {
         AlignedMethod::bsmpm(2),
         AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
         AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
+        AlignedMethod::bsmpm_with(2, Mapping2d::PuTlsQuadratic),
         AlignedMethod::TotalLagrangian { degree: 2 },
     ] {
         let mut sim = scene.simulation(method, 4, 3, 1.0).unwrap();
