@@ -3,8 +3,9 @@
 //! How particle data reach the grid in a 2D step (MLS paper, "phase 1"):
 //! directly by the B-spline functions (Eqs. 22–26), or through a
 //! Gauss-point reconstruction, MLS (Eqs. 10–21), TLS (TLS paper §5 in
-//! 2D) or partition-of-unity TLS (hompm's blend of TLS paper Eqs. 13–14). A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`]
-//! arm and one [`Mapping2d::reconstruction`] arm.
+//! 2D) or partition-of-unity TLS (hompm's blend of TLS paper Eqs. 13–14).
+//! A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`] arm
+//! and one [`Mapping2d::reconstruction`] arm.
 //!
 //! Items: [`Mapping2d`], [`MappingInfo`].
 
