@@ -117,9 +117,10 @@ fn reconstruction_allocations_do_not_grow_with_the_number_of_steps() {
 }
 
 /// The 2D step of the MLS paper allocates nothing once warm: direct
-/// mappings (MPM, BSMPM, the total-Lagrangian reference) and the MLS
+/// mappings (MPM, BSMPM, the total-Lagrangian reference), the MLS
 /// mapping, whose lists only grow when a Gauss point gathers more particles
-/// than ever before (MLS paper Eqs. 18–37).
+/// than ever before (MLS paper Eqs. 18–37), and PU-TLS, whose buffers are
+/// sized in `PuTlsShapes::new` for the most a step can need.
 #[test]
 fn a_steady_2d_step_allocates_nothing() {
     use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
@@ -128,6 +129,8 @@ fn a_steady_2d_step_allocates_nothing() {
         AlignedMethod::Mpm,
         AlignedMethod::bsmpm(2),
         AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
+        AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
+        AlignedMethod::bsmpm_with(2, Mapping2d::PuTlsQuadratic),
         AlignedMethod::TotalLagrangian { degree: 2 },
     ] {
         let mut sim = scene.simulation(method, 4, 3, 1.0).unwrap();

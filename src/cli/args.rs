@@ -213,7 +213,7 @@ pub enum SceneArg {
     /// Thesis §8.1: the column under a top load.
     ColumnTopLoad,
     /// MLS paper: the 2D manufactured neo-Hookean vibration (methods mpm,
-    /// bsmpm, bsmpm-mls, bsmpm-tls, tl-fe).
+    /// bsmpm, bsmpm-mls, bsmpm-tls, bsmpm-pu-tls, tl-fe).
     AlignedVibration,
     /// The MLS paper's code: its 1D manufactured neo-Hookean strip, in the
     /// code's coordinates (--params mls-paper-code; issue #40).

@@ -2,16 +2,19 @@
 //!
 //! How particle data reach the grid in a 2D step (MLS paper, "phase 1"):
 //! directly by the B-spline functions (Eqs. 22–26), or through a
-//! Gauss-point reconstruction, MLS (Eqs. 10–21) or TLS (TLS paper §5 in
-//! 2D). A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`]
-//! arm and one [`Mapping2d::reconstruction`] arm.
+//! Gauss-point reconstruction, MLS (Eqs. 10–21), TLS (TLS paper §5 in
+//! 2D) or partition-of-unity TLS (hompm's blend of TLS paper Eqs. 13–14).
+//! A new mapping is one [`Mapping2d`] variant, one [`Mapping2d::info`] arm
+//! and one [`Mapping2d::reconstruction`] arm.
 //!
 //! Items: [`Mapping2d`], [`MappingInfo`].
 
 use super::mls::MlsShapes;
+use super::pu_tls::PuTlsShapes;
 use super::reconstruction::GaussReconstruction;
-use super::tls::{BasisRule, TlsShapes};
+use super::tls::{BasisRule, TaylorOrder2d, TlsShapes};
 use crate::error::Result;
+use crate::reconstruct::taylor::DegenerateCells;
 use serde::{Deserialize, Serialize};
 
 /// How particle data reach the grid (MLS paper, "phase 1").
@@ -34,6 +37,15 @@ pub enum Mapping2d {
     /// count, as the 2D TLS of QuocAnh90/MPM2D_basic (cc01c1b,
     /// `SubFunctions/TLS2D.m:56-76`): [`super::tls::BasisRule::ParticleCount`].
     TlsByCount,
+    /// Partition-of-unity TLS ([`super::pu_tls`], hompm's construction):
+    /// conservative linear fits on the supports of the quadratic B-splines
+    /// (TLS paper Eqs. 13–14 with the weights N_e), blended by them at the
+    /// Gauss points; conservative and continuous, in both mappings of a step.
+    PuTls,
+    /// [`Mapping2d::PuTls`] with quadratic patches (ψ₁ … ψ₆, TLS paper §5.2
+    /// in 2D as [`super::tls`]), reduced to linear, then constant, where
+    /// degenerate.
+    PuTlsQuadratic,
 }
 
 /// What the rest of hompm knows of a mapping: its names and its cost. One
@@ -58,12 +70,14 @@ pub struct MappingInfo {
 
 impl Mapping2d {
     /// Every mapping, in the order the command line lists them.
-    pub const ALL: [Mapping2d; 5] = [
+    pub const ALL: [Mapping2d; 7] = [
         Mapping2d::Direct,
         Mapping2d::Mls,
         Mapping2d::MlsPhase1,
         Mapping2d::Tls,
         Mapping2d::TlsByCount,
+        Mapping2d::PuTls,
+        Mapping2d::PuTlsQuadratic,
     ];
 
     /// The registration of a mapping's names and cost.
@@ -104,6 +118,26 @@ impl Mapping2d {
                 ns_per_particle_step: 250.0,
                 bytes_per_particle: 0.0,
             },
+            Mapping2d::PuTls => MappingInfo {
+                name: "pu-tls",
+                label: "PU-TLS",
+                summary: "B-spline MPM with partition-of-unity TLS to the Gauss points, conservative and continuous (hompm's construction; aligned-vibration only)",
+                // Not benchmarked with divan: MLS's 500 ns scaled by the
+                // instructions per particle-step (callgrind, 16 cells, 9
+                // PPC: 14 100 against MLS's 7 500), rounded up.
+                ns_per_particle_step: 1000.0,
+                // 100 list entries (u32 + f64) per particle, 54 coefficients
+                // and 6 basis values.
+                bytes_per_particle: 100.0 * 12.0 + 60.0 * 8.0,
+            },
+            Mapping2d::PuTlsQuadratic => MappingInfo {
+                name: "pu-tls-quadratic",
+                label: "PU-TLS-quadratic",
+                summary: "B-spline MPM with partition-of-unity TLS on quadratic patches (hompm's construction; aligned-vibration only)",
+                // As PU-TLS: 18 300 instructions per particle-step.
+                ns_per_particle_step: 1300.0,
+                bytes_per_particle: 100.0 * 12.0 + 60.0 * 8.0,
+            },
         }
     }
 
@@ -126,6 +160,13 @@ impl Mapping2d {
             Mapping2d::TlsByCount => Some(Box::new(
                 TlsShapes::for_engine(cells, particles)?.with_basis_rule(BasisRule::ParticleCount),
             )),
+            Mapping2d::PuTls => Some(Box::new(PuTlsShapes::for_engine(cells, particles)?)),
+            Mapping2d::PuTlsQuadratic => Some(Box::new(PuTlsShapes::new(
+                TaylorOrder2d::Quadratic,
+                DegenerateCells::ReduceBasis,
+                cells,
+                particles,
+            )?)),
         })
     }
 

@@ -4,7 +4,8 @@
 //! the unit square, as far as the MLS paper's aligned vibration needs and no
 //! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
 //! (10)–(17) at the Gauss points ([`mls`]), the TLS paper's §5.2–5.5 on
-//! rectangular cells ([`tls`]), both behind one interface
+//! rectangular cells ([`tls`]) and hompm's partition-of-unity blend of it
+//! ([`pu_tls`]), all behind one interface
 //! ([`reconstruction`]) and registered as mappings ([`mapping`]),
 //! (18)–(37) (one step, [`step`], its phases in [`phases`], its buffers in
 //! [`workspace`]), watched by the 1D run's stability monitor ([`monitor`]),
@@ -22,6 +23,7 @@ pub mod mls;
 pub mod monitor;
 pub mod particles;
 pub mod phases;
+pub mod pu_tls;
 pub mod reconstruction;
 pub mod step;
 pub mod tls;

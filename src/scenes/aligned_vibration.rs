@@ -101,7 +101,7 @@ pub fn parameters(name: &str) -> Result<AlignedVibration> {
 ///
 /// JSON: `"mpm"`, `{"bsmpm": {"degree": p}}` for the direct mapping,
 /// `{"bsmpm-<mapping>": {"degree": p}}` for the others (`bsmpm-mls`,
-/// `bsmpm-mls-phase1`, `bsmpm-tls`), `{"total-lagrangian": {"degree": p}}`.
+/// `bsmpm-mls-phase1`, `bsmpm-tls`, `bsmpm-pu-tls`), `{"total-lagrangian": {"degree": p}}`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AlignedMethod {
     /// Bilinear MPM, direct mapping.

@@ -5,8 +5,9 @@
 //! (`mpm::conventions`, docs/conventions.md "Conventions of other codes");
 //! the Taichi-style step (APIC, the affine gradient, padded knots, USL; Hu
 //! et al. 2018) with one switched back at a time; the MLS paper's
-//! reconstruction (Eqs. 14–21) and conservative 2D TLS (TLS paper
-//! §5.2–5.5) alone and under USL or FLIP 0.99; and the total-Lagrangian
+//! reconstruction (Eqs. 14–21), conservative 2D TLS (TLS paper §5.2–5.5)
+//! and hompm's partition-of-unity TLS (`mpm2d::pu_tls`) alone and under
+//! USL or FLIP 0.99; and the total-Lagrangian
 //! reference, which never crosses cells. Each is named by the flags of
 //! `hompm run aligned-vibration` that give it.
 //!
@@ -73,8 +74,8 @@ const fn with(scheme: Scheme, transfer: Transfer, knots: Knots, gradient: Gradie
 /// convention switched at a time (APIC runs with USL, which
 /// `Conventions::validate` requires), then the Taichi-style step and one
 /// convention switched back at a time (the affine gradient needs APIC, so
-/// replacing APIC drops it too; APIC cannot go back to MUSL); then MLS and
-/// conservative TLS alone and under USL or FLIP 0.99; last, the
+/// replacing APIC drops it too; APIC cannot go back to MUSL); then MLS,
+/// conservative TLS and PU-TLS alone and under USL or FLIP 0.99; last, the
 /// total-Lagrangian reference, which separates what grid crossing does
 /// from what the manufactured solution does.
 pub fn combinations() -> Vec<Combination> {
@@ -197,6 +198,26 @@ pub fn combinations() -> Vec<Combination> {
             Mapping2d::Tls,
             "BSMPM + TLS + flip:0.99",
             "--method bsmpm-tls --transfer flip:0.99",
+            with(Musl, Transfer::Blend(0.99), Open, Basis),
+        ),
+        // hompm's partition-of-unity TLS (src/mpm2d/pu_tls.rs): conservative
+        // as TLS and continuous as MLS, under the same switches.
+        r(
+            Mapping2d::PuTls,
+            "BSMPM + PU-TLS",
+            "--method bsmpm-pu-tls",
+            mls,
+        ),
+        r(
+            Mapping2d::PuTls,
+            "BSMPM + PU-TLS + usl",
+            "--method bsmpm-pu-tls --scheme usl",
+            with(Usl, Transfer::Flip, Open, Basis),
+        ),
+        r(
+            Mapping2d::PuTls,
+            "BSMPM + PU-TLS + flip:0.99",
+            "--method bsmpm-pu-tls --transfer flip:0.99",
             with(Musl, Transfer::Blend(0.99), Open, Basis),
         ),
         Combination {

@@ -32,9 +32,9 @@ fn tiny() -> &'static ConventionStudy {
 }
 
 /// Whether both runs reached one period; every combination with the
-/// direct mapping must (the tiny study is far inside their stability
-/// limits), a reconstruction may stop on these coarse 4-PPC grids (MLS: a
-/// singular moment matrix; conservative TLS: det F <= 0).
+/// direct mapping or PU-TLS must (the tiny study is far inside their
+/// stability limits), MLS and per-cell TLS may stop on these coarse 4-PPC
+/// grids (MLS: a singular moment matrix; conservative TLS: det F <= 0).
 fn reached_one_period(method: AlignedMethod, a: &ConventionRun, b: &ConventionRun) -> bool {
     let reached = a.early.is_some() && b.early.is_some();
     let direct = !matches!(

@@ -1314,9 +1314,11 @@ fn tls_2d_reproduces_every_polynomial_of_its_order() {
 
 /// Records, at every phase-1 mapping, the relative mass error and the
 /// momentum error relative to Σ m|v|, with compensated sums.
-struct ConservationProbe {
-    largest: [f64; 2],
-    mappings: usize,
+pub(super) struct ConservationProbe {
+    /// The largest relative errors of mass and momentum so far.
+    pub(super) largest: [f64; 2],
+    /// The phase-1 mappings observed.
+    pub(super) mappings: usize,
 }
 
 impl StepObserver2d for ConservationProbe {
