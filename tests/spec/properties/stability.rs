@@ -365,6 +365,28 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
             "x = {x}, v = {v}, V = {volume}"
         );
     }
+    // Every particle failing the same way is found too (the filter must
+    // not depend on a healthy particle to trigger the exact pass).
+    for field in ["x", "stress", "volume", "left", "right"] {
+        sim.particles = clean.clone();
+        let p = &mut sim.particles;
+        match field {
+            "x" => p.x.fill(f64::NAN),
+            "stress" => p.stress.fill(f64::NAN),
+            "volume" => p.volume.fill(0.0),
+            "left" => p.x = vec![-1.0, -2.0, -3.0],
+            _ => p.x = vec![2.0, 3.0, 4.0],
+        }
+        match sim.check_particles_are_physical() {
+            Err(Error::NonPhysicalParticle { particle: 0, .. }) => {
+                assert!(["x", "stress", "volume"].contains(&field))
+            }
+            Err(Error::ParticleLeftGrid { particle: 0, .. }) => {
+                assert!(["left", "right"].contains(&field))
+            }
+            other => panic!("every particle's {field} bad: {other:?}"),
+        }
+    }
     sim.particles = clean.clone();
     sim.particles.x[1] = f64::NAN;
     sim.diagnostics.negative_mass_steps = 2;
