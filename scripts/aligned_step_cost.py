@@ -8,14 +8,15 @@ sys, from os.wait4) of `hompm run aligned-vibration --cells C --ppc 9`
 with LONG steps minus the same with 50 (which removes the setup), best of
 three, divided by (LONG - 50) steps x the particles; LONG is 550 unless
 given (conservative TLS stops near step 260 on 64 cells: use 250 there).
-Run by hand:
-  python3 scripts/aligned_step_cost.py [path/to/hompm] [cells] [long]
+Run by hand (ONLY: run only the combinations whose label contains it):
+  python3 scripts/aligned_step_cost.py [path/to/hompm] [cells] [long] [ONLY]
 Only the standard library."""
 import os, subprocess, sys
 
 HOMPM = sys.argv[1] if len(sys.argv) > 1 else "target/release/hompm"
 CELLS = int(sys.argv[2]) if len(sys.argv) > 2 else 32
 LONG = int(sys.argv[3]) if len(sys.argv) > 3 else 550
+ONLY = sys.argv[4] if len(sys.argv) > 4 else ""
 
 # The flags of src/studies/mls_convergence.rs, `combinations()`.
 FLAGS = {
@@ -41,6 +42,9 @@ FLAGS = {
     "BSMPM + TLS": "--method bsmpm-tls",
     "BSMPM + TLS + usl": "--method bsmpm-tls --scheme usl",
     "BSMPM + TLS + flip:0.99": "--method bsmpm-tls --transfer flip:0.99",
+    "BSMPM + PU-TLS": "--method bsmpm-pu-tls",
+    "BSMPM + PU-TLS + usl": "--method bsmpm-pu-tls --scheme usl",
+    "BSMPM + PU-TLS + flip:0.99": "--method bsmpm-pu-tls --transfer flip:0.99",
     "TL-FE reference (no grid crossing)": "--method tl-fe --degree 2",
 }
 
@@ -61,6 +65,8 @@ def cpu_seconds(flags, steps):
 if __name__ == "__main__":
     particles = CELLS * CELLS * 9
     for label, flags in FLAGS.items():
+        if ONLY not in label:
+            continue
         ns = 1e9 * (cpu_seconds(flags, LONG) - cpu_seconds(flags, 50)) / ((LONG - 50) * particles)
         print(f"{label}: {ns:.0f} ns per particle-step ({CELLS} cells, {particles} particles)",
               flush=True)

@@ -126,4 +126,16 @@ fn the_large_deformation_column_strains_nine_percent_at_its_base_under_its_own_l
         (1000.0 * column_static_strain(&column::parameters("thesis-table-4.3").unwrap())).round(),
         5.0
     );
+    // Each law's static stretch carries the weight: σ(F) = −ρ|g|H, with
+    // σ = E(1 − 1/F) (large strain) and the 1D neo-Hookean σ = E(F² − 1)/(2F)
+    // at ν = 0.
+    let weight = -c.density * c.gravity.abs() * c.height;
+    let f = 1.0 - strain;
+    assert!((c.young * (1.0 - 1.0 / f) - weight).abs() < 1e-9 * weight.abs());
+    let neo = column::ColumnParameters {
+        constitutive: Constitutive::NeoHookean,
+        ..c
+    };
+    let f = 1.0 - column_static_strain(&neo);
+    assert!((c.young * (f * f - 1.0) / (2.0 * f) - weight).abs() < 1e-9 * weight.abs());
 }
