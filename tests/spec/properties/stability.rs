@@ -350,6 +350,7 @@ fn the_step_check_names_the_first_non_physical_particle_then_the_first_outside()
         (f64::INFINITY, 0.0, 1.0 / 3.0),
         (f64::NEG_INFINITY, 0.0, 1.0 / 3.0),
         (2.0, 0.0, -0.1),
+        (-1.0, 0.0, -0.1),
         (-1.0, f64::NAN, 1.0 / 3.0),
         (0.5, f64::NAN, 0.0),
     ] {
