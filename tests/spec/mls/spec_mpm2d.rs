@@ -1431,16 +1431,7 @@ fn a_cell_of_collinear_particles_is_refused_by_name_or_repaired_conservatively()
     )
     .unwrap();
     assert_eq!(shapes.repaired(), 1);
-    let lists = shapes.lists();
-    let mut carried = vec![0.0; p.len()];
-    for g in 0..lists.start.len() {
-        for e in lists.start[g]..lists.end[g] {
-            carried[lists.particle[e] as usize] += grid.gauss_weight() * lists.phi[e];
-        }
-    }
-    for (k, c) in carried.iter().enumerate() {
-        assert_relative_eq!(*c, p.volume[k], max_relative = 1e-13);
-    }
+    assert_every_particle_carries_its_volume(&shapes, grid.gauss_weight(), &p.volume);
     assert!(TlsShapes::new(
         TaylorOrder2d::Quadratic,
         TlsVariant::Conservative,
@@ -1534,5 +1525,25 @@ fn every_nodal_buffer_keeps_the_quantity_of_its_equation_through_a_step() {
         assert!(checked > 4, "{basis:?}: the test needs interior forces");
         // (mv)^t and (mv)^L differ: the particles' velocities changed.
         assert_ne!(ws.momentum, ws.momentum_end);
+    }
+}
+
+/// Σ_g ω φ_gp = V_p for every particle p: a conservative reconstruction's
+/// shape functions carry each particle's volume to the Gauss points (TLS
+/// paper §5.5 in 2D; the PU-TLS module doc), to 1e-13.
+pub(super) fn assert_every_particle_carries_its_volume(
+    shapes: &dyn GaussReconstruction,
+    omega: f64,
+    volumes: &[f64],
+) {
+    let lists = shapes.lists();
+    let mut carried = vec![0.0; volumes.len()];
+    for g in 0..lists.start.len() {
+        for e in lists.start[g]..lists.end[g] {
+            carried[lists.particle[e] as usize] += omega * lists.phi[e];
+        }
+    }
+    for (k, c) in carried.iter().enumerate() {
+        assert_relative_eq!(*c, volumes[k], max_relative = 1e-13);
     }
 }

@@ -317,16 +317,11 @@ fn a_patch_without_a_linear_fit_is_refused_by_name_or_reduced_conservatively() {
     let mut shapes = PuTlsShapes::for_engine(cells, n).unwrap();
     let grid = evaluate(&mut shapes, &p, cells).unwrap();
     assert_eq!(shapes.repaired(), 1);
-    let lists = shapes.lists();
-    let mut carried = vec![0.0; n];
-    for g in 0..lists.start.len() {
-        for e in lists.start[g]..lists.end[g] {
-            carried[lists.particle[e] as usize] += grid.gauss_weight() * lists.phi[e];
-        }
-    }
-    for (k, c) in carried.iter().enumerate() {
-        assert_relative_eq!(*c, p.volume[k], max_relative = 1e-13);
-    }
+    super::spec_mpm2d::assert_every_particle_carries_its_volume(
+        &shapes,
+        grid.gauss_weight(),
+        &p.volume,
+    );
     assert!(PuTlsShapes::new(
         TaylorOrder2d::Linear,
         DegenerateCells::VirtualPoints,
