@@ -820,3 +820,38 @@ fn an_agreeing_verdict_says_what_share_of_the_tolerance_its_largest_difference_u
         "{verdict}"
     );
 }
+
+/// Every registered 2D mapping (src/mpm2d/mapping.rs, PU-TLS included) can
+/// be checked: hompm's own run agrees with itself, and the same file with
+/// one particle's displacement moved by 1e-9 m differs, naming u.
+#[test]
+fn every_registered_2d_mapping_checks_its_own_run_and_catches_a_moved_particle() {
+    use hompm::mpm2d::Mapping2d;
+    for mapping in Mapping2d::ALL {
+        let method = match mapping {
+            Mapping2d::Direct => "bsmpm".to_string(),
+            m => format!("bsmpm-{}", m.name()),
+        };
+        let setup = [
+            "aligned-vibration",
+            "--method",
+            &method,
+            "--cells",
+            "4",
+            "--ppc",
+            "9",
+            "--steps",
+            "3",
+        ];
+        let base = doc("run", &setup);
+        agrees(check(&setup, "own.json", &base, &[]));
+        let mut moved = base.clone();
+        let u = moved["particles"]["u"][5][0].as_f64().unwrap();
+        moved["particles"]["u"][5][0] = json!(u + 1e-9);
+        let out = differs(check(&setup, "moved.json", &moved, &["--json"]));
+        assert!(
+            json_of(&out)["fields"]["u"]["failures"].as_u64() >= Some(1),
+            "{method}: {out}"
+        );
+    }
+}
