@@ -22,24 +22,13 @@ pub(super) fn fill_bspline_stencils<const W: usize>(
     scratch: &mut SpanScratch,
 ) -> Result<()> {
     if W == 0 {
-        for (k, x) in xs.enumerate() {
-            let (v, g) = stencils.slots_mut(k);
-            stencils.first[k] = kv.values_and_gradients_into(x, scratch, v, g)?;
-        }
-        return Ok(());
+        return fill_any_width(xs, stencils, |x, v, g| {
+            kv.values_and_gradients_into(x, scratch, v, g)
+        });
     }
-    let Stencils {
-        first,
-        values,
-        gradients,
-        ..
-    } = stencils;
-    let rows = values.as_chunks_mut::<W>().0.iter_mut();
-    let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
-    for ((x, f), (v, g)) in xs.zip(first.iter_mut()).zip(rows) {
-        *f = kv.values_and_gradients_fixed::<W>(x, v, g)?;
-    }
-    Ok(())
+    fill_fixed_width::<W>(xs, stencils, |x, v, g| {
+        kv.values_and_gradients_fixed::<W>(x, v, g)
+    })
 }
 
 /// [`Grid::fill_stencils`] on a Lagrange grid of width `W` = degree + 1 (0:
@@ -52,12 +41,38 @@ pub(super) fn fill_lagrange_stencils<const W: usize>(
     stencils: &mut Stencils,
 ) -> Result<()> {
     if W == 0 {
-        for (k, x) in xs.enumerate() {
-            let (v, g) = stencils.slots_mut(k);
-            stencils.first[k] = basis.evaluate_into(x, v, g)?;
-        }
-        return Ok(());
+        return fill_any_width(xs, stencils, |x, v, g| basis.evaluate_into(x, v, g));
     }
+    fill_fixed_width::<W>(xs, stencils, |x, v, g| {
+        match basis.evaluate_fixed::<W>(x, v, g) {
+            Some(result) => result,
+            None => basis.evaluate_into(x, v, g),
+        }
+    })
+}
+
+/// Point k's stencil by `evaluate(x_k, values, gradients)`, which returns
+/// its first function, with the width read at run time.
+fn fill_any_width(
+    xs: impl Iterator<Item = f64>,
+    stencils: &mut Stencils,
+    mut evaluate: impl FnMut(f64, &mut [f64], &mut [f64]) -> Result<usize>,
+) -> Result<()> {
+    for (k, x) in xs.enumerate() {
+        let (v, g) = stencils.slots_mut(k);
+        stencils.first[k] = evaluate(x, v, g)?;
+    }
+    Ok(())
+}
+
+/// Point k's stencil by `evaluate(x_k, values, gradients)` into rows of
+/// the compile-time width `W` (no slicing per point).
+#[inline(always)]
+fn fill_fixed_width<const W: usize>(
+    xs: impl Iterator<Item = f64>,
+    stencils: &mut Stencils,
+    mut evaluate: impl FnMut(f64, &mut [f64; W], &mut [f64; W]) -> Result<usize>,
+) -> Result<()> {
     let Stencils {
         first,
         values,
@@ -67,10 +82,7 @@ pub(super) fn fill_lagrange_stencils<const W: usize>(
     let rows = values.as_chunks_mut::<W>().0.iter_mut();
     let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
     for ((x, f), (v, g)) in xs.zip(first.iter_mut()).zip(rows) {
-        *f = match basis.evaluate_fixed::<W>(x, v, g) {
-            Some(result) => result?,
-            None => basis.evaluate_into(x, v, g)?,
-        };
+        *f = evaluate(x, v, g)?;
     }
     Ok(())
 }
