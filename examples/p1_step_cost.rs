@@ -33,8 +33,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "watched" => {
             let mut monitor = StabilityMonitor::new(&sim, dt)?;
             for _ in 0..steps {
-                sim.step(dt)?;
-                monitor.check(&sim)?;
+                let summary = sim.step_summarised(dt)?;
+                monitor.check_step(&sim, &summary)?;
             }
         }
         "bare" => {

@@ -11,7 +11,10 @@
 //! once, flat (point k owns `width` consecutive entries), so that an MPM step
 //! evaluates the basis at every particle without allocating, and scatters
 //! particle quantities to the nodes (book Eqs. 4.5–4.6) and interpolates
-//! nodal ones back (Eq. 4.9) in particle order.
+//! nodal ones back (Eq. 4.9) in particle order. [`interpolate_row`] is
+//! that interpolation for one point whose row a loop already holds, and
+//! [`StencilSums`] keeps a scatter's nodal sums in registers while
+//! consecutive particles share a stencil (the fused 1D step).
 
 use crate::error::Result;
 
@@ -259,11 +262,90 @@ impl Stencils {
 fn add_interpolated<const W: usize>(s: &Stencils, c: f64, nodal: &[f64], out: &mut [f64]) {
     let w = if W == 0 { s.width } else { W };
     for (k, (o, &f)) in out.iter_mut().zip(&s.first).enumerate() {
-        let sum: f64 = s.values[k * w..k * w + w]
-            .iter()
-            .zip(&nodal[f..f + w])
-            .map(|(phi, a)| phi * a)
-            .sum();
-        *o += c * sum;
+        *o += c * interpolate_row(&s.values[k * w..k * w + w], &nodal[f..]);
+    }
+}
+
+/// Σ_i φ_i a_i over one point's stencil `values` and the nodal field from
+/// its first function on (book Eq. 4.9): the sum of [`Stencils::interpolate`]
+/// and [`Stencils::add_interpolated`], in the same order, for a loop that
+/// holds the row itself (the fused 1D step, `mpm::musl`).
+#[inline(always)]
+pub fn interpolate_row(values: &[f64], nodal_from_first: &[f64]) -> f64 {
+    values
+        .iter()
+        .zip(nodal_from_first)
+        .map(|(phi, a)| phi * a)
+        .sum()
+}
+
+/// N nodal vectors' sums over a stencil of width `W`, kept in registers
+/// while consecutive points share their first function (particles sorted
+/// by cell do): [`StencilSums::move_to`] stores the sums back and loads the
+/// next stencil's only when the first function changes. The additions are
+/// the same, in the same order, as adding into the vectors directly, so
+/// the sums are bit for bit those of [`Stencils::scatter_values`] (book
+/// Eqs. 4.5–4.6, 4.10 in a fused particle loop).
+#[derive(Debug, Clone, Copy)]
+pub struct StencilSums<const W: usize, const N: usize> {
+    first: Option<usize>,
+    /// `sums[n][a]`: vector n's entry at the current stencil's function a.
+    pub sums: [[f64; W]; N],
+}
+
+impl<const W: usize, const N: usize> Default for StencilSums<W, N> {
+    fn default() -> Self {
+        Self {
+            first: None,
+            sums: [[0.0; W]; N],
+        }
+    }
+}
+
+impl<const W: usize, const N: usize> StencilSums<W, N> {
+    /// Makes the stencil starting at `first` current, storing the previous
+    /// one's sums into `vectors` and loading this one's.
+    #[inline(always)]
+    pub fn move_to(&mut self, first: usize, vectors: &mut [&mut [f64]; N]) {
+        let Some(current) = self.first else {
+            return self.load(first, vectors);
+        };
+        if first == current {
+            return;
+        }
+        if first == current + 1 && W > 1 {
+            // The next cell's stencil (B-splines, P1): one sum leaves and
+            // one enters; the W − 1 shared ones stay in registers. (Storing
+            // the whole stencil and loading the next, which overlaps it,
+            // would stall: a load that straddles a recent store is not
+            // forwarded from it.)
+            for (sums, v) in self.sums.iter_mut().zip(vectors.iter_mut()) {
+                v[current] = sums[0];
+                sums.copy_within(1.., 0);
+                sums[W - 1] = v[first + W - 1];
+            }
+            self.first = Some(first);
+            return;
+        }
+        self.store(vectors);
+        self.load(first, vectors);
+    }
+
+    /// Loads the sums of the stencil starting at `first`.
+    #[inline(always)]
+    fn load(&mut self, first: usize, vectors: &[&mut [f64]; N]) {
+        for (sums, v) in self.sums.iter_mut().zip(vectors.iter()) {
+            sums.copy_from_slice(&v[first..first + W]);
+        }
+        self.first = Some(first);
+    }
+
+    /// Stores the current stencil's sums into `vectors`.
+    pub fn store(&self, vectors: &mut [&mut [f64]; N]) {
+        if let Some(f) = self.first {
+            for (sums, v) in self.sums.iter().zip(vectors.iter_mut()) {
+                v[f..f + W].copy_from_slice(sums);
+            }
+        }
     }
 }

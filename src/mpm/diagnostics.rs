@@ -156,15 +156,29 @@ impl RunDiagnostics {
         total_mass: f64,
         total_momentum: f64,
     ) {
-        self.solver_iterations += projection.solver_iterations;
-        self.min_mass_diagonal_ratio = self.min_mass_diagonal_ratio.min(projection.diagonal_ratio);
-        let vmax = nodal_velocity.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        self.max_nodal_velocity = self.max_nodal_velocity.max(vmax);
         let pmax = particle_velocity
             .iter()
             .map(|v| v.abs())
             .fold(0.0, f64::max);
-        self.max_particle_velocity = self.max_particle_velocity.max(pmax);
+        self.record_projection_totals(projection, nodal_velocity, pmax, total_mass, total_momentum);
+    }
+
+    /// [`RunDiagnostics::record_projection`] with the largest particle
+    /// speed max_p |v_p| already found (the fused 1D step finds it in the
+    /// loop that updates the velocities).
+    pub fn record_projection_totals(
+        &mut self,
+        projection: &Projection,
+        nodal_velocity: &[f64],
+        fastest_particle_speed: f64,
+        total_mass: f64,
+        total_momentum: f64,
+    ) {
+        self.solver_iterations += projection.solver_iterations;
+        self.min_mass_diagonal_ratio = self.min_mass_diagonal_ratio.min(projection.diagonal_ratio);
+        let vmax = nodal_velocity.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        self.max_nodal_velocity = self.max_nodal_velocity.max(vmax);
+        self.max_particle_velocity = self.max_particle_velocity.max(fastest_particle_speed);
         self.max_mass_error = self
             .max_mass_error
             .max((projection.grid_mass - total_mass).abs() / total_mass);
@@ -178,9 +192,14 @@ impl RunDiagnostics {
     /// Steps 5–8's particles: the largest accumulated |ε_p| and this step's
     /// grid crossings.
     pub fn record_particles(&mut self, strain: &[f64], crossings: usize) {
-        for e in strain {
-            self.max_abs_strain = self.max_abs_strain.max(e.abs());
-        }
+        let largest = strain.iter().map(|e| e.abs()).fold(0.0, f64::max);
+        self.record_particle_extremes(largest, crossings);
+    }
+
+    /// [`RunDiagnostics::record_particles`] with max_p |ε_p| already found
+    /// (the fused 1D step finds it in the loop that updates the strains).
+    pub fn record_particle_extremes(&mut self, max_abs_strain: f64, crossings: usize) {
+        self.max_abs_strain = self.max_abs_strain.max(max_abs_strain);
         self.grid_crossings += crossings;
     }
 }

@@ -27,10 +27,10 @@
 //! Courant number is measured; docs/conventions.md, "The stability monitor").
 //!
 //! Items: [`StabilityMonitor`], [`Warning`], [`Watched`],
-//! [`measured_critical_courant`], [`ENERGY_GROWTH_BOUND`].
+//! [`measured_critical_courant`], [`ENERGY_GROWTH_BOUND`], [`STRAIN_LIMIT`].
 
 use super::grid::Method;
-use super::musl::Simulation;
+use super::musl::{Simulation, StepSummary};
 use crate::error::{DivergenceCause, Error, Result};
 use serde::Serialize;
 
@@ -39,6 +39,10 @@ use serde::Serialize;
 /// per cent of that budget; the reproducers of issue #13 grew it ×112 and
 /// ×1485 (docs/conventions.md, "The stability monitor").
 pub const ENERGY_GROWTH_BOUND: f64 = 10.0;
+
+/// The strain |ε_p| at which a 1D run has diverged: a Jacobian 1 + ε ≤ 0
+/// or a doubled length (module docs).
+pub const STRAIN_LIMIT: f64 = 1.0;
 
 /// The critical Courant number C = c Δt / h (thesis Eq. 3.5) that
 /// `studies::stability_map(16)` measures for the vibrating bar with lumped
@@ -145,7 +149,7 @@ impl Watched for Simulation {
     /// |ε_p| ≥ 1: a Jacobian 1 + ε ≤ 0 or a doubled length.
     fn strain_at_limit(&self) -> Option<(usize, DivergenceCause)> {
         let strain = &self.particles.strain;
-        let k = strain.iter().position(|e| e.abs() >= 1.0)?;
+        let k = strain.iter().position(|e| e.abs() >= STRAIN_LIMIT)?;
         Some((k, DivergenceCause::StrainLimit { strain: strain[k] }))
     }
 }
@@ -208,12 +212,30 @@ impl StabilityMonitor {
         Ok(())
     }
 
+    /// [`StabilityMonitor::check`] after `sim.step_summarised(dt)`, with
+    /// the energy and the largest strain the step found: the same verdict,
+    /// without a pass over the particles for each.
+    pub fn check_step(&mut self, sim: &Simulation, summary: &StepSummary) -> Result<()> {
+        self.check_energy(sim, summary.energy)?;
+        // No strain reached the limit if the largest did not.
+        if summary.max_abs_strain >= STRAIN_LIMIT {
+            self.check_strain(sim)?;
+        }
+        self.record_negative_masses(sim);
+        Ok(())
+    }
+
     /// Checks the state after a step of any run: [`Error::Diverged`] if the
     /// energy left its budget (naming the fastest particle) or a strain
     /// reached its limit (naming that particle).
     pub fn check_watched(&mut self, run: &impl Watched) -> Result<()> {
+        self.check_energy(run, run.energy())?;
+        self.check_strain(run)
+    }
+
+    /// [`Error::Diverged`] if `energy`, the run's now, left the budget.
+    fn check_energy(&self, run: &impl Watched, energy: f64) -> Result<()> {
         let (step, time) = (run.steps_done(), run.time());
-        let energy = run.energy();
         if energy > self.energy_budget {
             return Err(Error::Diverged {
                 step,
@@ -226,6 +248,12 @@ impl StabilityMonitor {
                 },
             });
         }
+        Ok(())
+    }
+
+    /// [`Error::Diverged`] if a strain reached its limit.
+    fn check_strain(&self, run: &impl Watched) -> Result<()> {
+        let (step, time) = (run.steps_done(), run.time());
         if let Some((particle, cause)) = run.strain_at_limit() {
             return Err(Error::Diverged {
                 step,

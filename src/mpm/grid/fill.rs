@@ -6,6 +6,7 @@
 //! at compile time, the same numbers bit for bit as one point at a time
 //! (`Grid::evaluate`).
 
+use super::{Grid, GridBasis};
 use crate::basis::Stencils;
 use crate::error::Result;
 use crate::lagrange::LagrangeBasis;
@@ -49,6 +50,65 @@ pub(super) fn fill_lagrange_stencils<const W: usize>(
             None => basis.evaluate_into(x, v, g),
         }
     })
+}
+
+impl Grid {
+    /// Whether [`Grid::fixed_width_evaluator`] serves this grid: a
+    /// B-spline or Lagrange grid without DDMPM's dual domain, whose stencil
+    /// width is one of the compile-time widths 2, 3, 4.
+    pub(crate) fn fills_fixed_width(&self) -> bool {
+        self.dual.is_none()
+            && matches!(self.stencil_width(), 2..=4)
+            && matches!(self.basis, GridBasis::BSpline(_) | GridBasis::Lagrange(_))
+    }
+
+    /// The evaluation of [`Grid::fill_stencils`] at one point, for a loop
+    /// that does more with each particle's basis than store it (the fused
+    /// 1D step, `mpm::musl`, adds its mass and forces to the nodes while the
+    /// basis is in registers): the same numbers bit for bit. `None` unless
+    /// `W` is this grid's width and [`Grid::fills_fixed_width`].
+    pub(crate) fn fixed_width_evaluator<const W: usize>(
+        &self,
+    ) -> Option<FixedWidthEvaluator<'_, W>> {
+        if W == 0 || W != self.stencil_width() || !self.fills_fixed_width() {
+            return None;
+        }
+        match &self.basis {
+            GridBasis::BSpline(kv) => Some(FixedWidthEvaluator::BSpline(kv)),
+            GridBasis::Lagrange(basis) => Some(FixedWidthEvaluator::Lagrange(basis)),
+            GridBasis::Natural(_) => None,
+        }
+    }
+}
+
+/// φ_i(x) and ∇φ_i(x) at one point into rows of width `W`
+/// ([`Grid::fixed_width_evaluator`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum FixedWidthEvaluator<'a, const W: usize> {
+    /// [`KnotVector::values_and_gradients_fixed`].
+    BSpline(&'a KnotVector),
+    /// [`LagrangeBasis::evaluate_fixed`].
+    Lagrange(&'a LagrangeBasis),
+}
+
+impl<const W: usize> FixedWidthEvaluator<'_, W> {
+    /// The basis at x into `values` and `gradients`; returns the first
+    /// function's index.
+    #[inline(always)]
+    pub(crate) fn evaluate(
+        &self,
+        x: f64,
+        values: &mut [f64; W],
+        gradients: &mut [f64; W],
+    ) -> Result<usize> {
+        match self {
+            Self::BSpline(kv) => kv.values_and_gradients_fixed::<W>(x, values, gradients),
+            Self::Lagrange(basis) => match basis.evaluate_fixed::<W>(x, values, gradients) {
+                Some(result) => result,
+                None => basis.evaluate_into(x, values, gradients),
+            },
+        }
+    }
 }
 
 /// Point k's stencil by `evaluate(x_k, values, gradients)`, which returns

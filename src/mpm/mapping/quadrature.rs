@@ -143,14 +143,32 @@ pub(super) fn accumulate_particles<const W: usize>(
         }
         let (rho_w, mom_w) = (p.mass[k], p.mass[k] * p.velocity[k]);
         let values = &s.values[k * W..(k + 1) * W];
-        let sum: f64 = values.iter().sum();
-        for (a, &fa) in values.iter().enumerate() {
-            momentum[a] += mom_w * fa;
-            lumped[a] += rho_w * fa * sum;
-            diagonal[a] += rho_w * fa * fa;
-        }
+        let sums = [&mut momentum, &mut lumped, &mut diagonal];
+        accumulate_lumped_row(sums, values.try_into().expect("W entries"), rho_w, mom_w);
     }
     acc.momentum[current..current + W].copy_from_slice(&momentum);
     acc.lumped[current..current + W].copy_from_slice(&lumped);
     acc.diagonal[current..current + W].copy_from_slice(&diagonal);
+}
+
+/// One particle's share of the lumped projection (book Eq. 4.10 with the
+/// row-sum mass): p_i += (m_p v_p) φ_i, M^L_i += m_p φ_i Σ_j φ_j and
+/// M_ii += m_p φ_i², over its stencil `values` with `rho_w` = m_p and
+/// `mom_w` = m_p v_p; `sums` = [momentum, lumped, diagonal] at the
+/// stencil. The loop of the direct mapping's assembly and of the fused
+/// 1D step (`mpm::musl`).
+#[inline(always)]
+pub(crate) fn accumulate_lumped_row<const W: usize>(
+    sums: [&mut [f64; W]; 3],
+    values: &[f64; W],
+    rho_w: f64,
+    mom_w: f64,
+) {
+    let [momentum, lumped, diagonal] = sums;
+    let sum: f64 = values.iter().sum();
+    for (a, &fa) in values.iter().enumerate() {
+        momentum[a] += mom_w * fa;
+        lumped[a] += rho_w * fa * sum;
+        diagonal[a] += rho_w * fa * fa;
+    }
 }

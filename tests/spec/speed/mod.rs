@@ -2,6 +2,7 @@
 //! compute bit for bit what hompm's step computes, so a ratio of their
 //! times is a ratio of the same work.
 
+mod fused_step;
 mod lean_p1;
 #[path = "../../../benches/lean/p1.rs"]
 #[allow(dead_code)]

@@ -1,0 +1,374 @@
+//! # The step in three particle loops
+//!
+//! [`Simulation::step`] for the book's step (MUSL, FLIP and projected
+//! positions: book §4.2.2, the body force from the particles or the nodes),
+//! the direct mapping of forces and velocities, a lumped mass and the small-
+//! or large-strain law, on a B-spline or Lagrange grid of stencil width 2
+//! to 4 without DDMPM's dual domain: every 1D scene of the book and the
+//! thesis that does not reconstruct. It computes bit for bit what the pass
+//! per equation of [`Simulation::step_observed`] computes (the particles,
+//! the workspace and every [`RunDiagnostics`] entry;
+//! tests/spec/speed/fused_step.rs), because each sum is formed from the same
+//! products in the same order, but it visits each particle three times
+//! instead of fourteen (issue #39):
+//!
+//! 1. [`map_particles_to_grid`]: the basis at x_p, then the particle's
+//!    mass m_p φ_i (book Eq. 4.5), internal force σ_p V_p ∇φ_i (Eq. 4.6) and
+//!    loads (thesis §3.2) added to the nodes while the basis is in
+//!    registers. Then on the grid: a_i (Eq. 4.8), a_i = 0 on Dirichlet DOFs.
+//! 2. [`update_velocities_and_map_momentum`]: v_p (Eq. 4.9, FLIP), then its
+//!    share of the projection p_i, M^L_i, M_ii (Eq. 4.10) and of the
+//!    conservation monitor's particle totals. Then on the grid:
+//!    v_i = p_i / M^L_i, the projection's record, v_i = 0 on Dirichlet DOFs.
+//! 3. [`move_particles`]: u_p, x_p, Δε_p, σ_p, V_p, ρ_p, ε_p
+//!    (Eqs. 4.11–4.18), the strain and crossing monitors (thesis §3.3) and
+//!    the screen of the check that every particle is physical.
+//!
+//! The loops call the one-particle equations of
+//! [`super::particle_equations`] (which the other path calls too) and keep
+//! nodal sums in registers with [`StencilSums`]; the grid phases are the
+//! same functions as the other path's. A step that an observer watches
+//! (`hompm trace`, the planted defects of `hompm check`) takes the pass per
+//! equation, so that every equation's quantity is there to be seen.
+//!
+//! Items: `Simulation::step_is_fused`, `Simulation::step_fused`.
+
+use super::particle_equations::{
+    displacement_and_strain_increment, flip_velocity, large_strain_stress, small_strain_stress,
+    update_volume_density_strain,
+};
+use super::{particle_energy, BodyForceAt, Constitutive, Simulation, StepSummary};
+use crate::basis::{interpolate_row, StencilSums, Stencils};
+use crate::error::{Error, Result};
+use crate::mpm::mapping::{
+    accumulate_lumped_row, diagnose_projection, solve_projection, Mapping, MassMatrix,
+};
+
+impl Simulation {
+    /// Whether [`Simulation::step`] takes the fused loops of this module:
+    /// the book's conventions, the direct mapping for both transfers, a
+    /// lumped mass (also in step 2), no manufactured body force field, the
+    /// small- or large-strain law, and a grid that
+    /// [`fills a fixed width`](crate::mpm::grid::Grid::fills_fixed_width).
+    pub fn step_is_fused(&self) -> bool {
+        let s = &self.settings;
+        !s.conventions.needs_grid_velocity()
+            && s.force_mapping == Mapping::Direct
+            && s.velocity_mapping == Mapping::Direct
+            && s.mass == MassMatrix::Lumped
+            && !s.consistent_acceleration
+            && s.body_force.is_none()
+            && matches!(
+                s.constitutive,
+                Constitutive::SmallStrain | Constitutive::LargeStrain
+            )
+            && self.grid.fills_fixed_width()
+    }
+
+    /// One step of size dt in three particle loops (module docs); the
+    /// caller has checked dt and [`Simulation::step_is_fused`]. With `summarise`
+    /// the last loop also sums the particles' energy for the
+    /// [`StepSummary`] (else its energy is NaN).
+    pub(super) fn step_fused(&mut self, dt: f64, summarise: bool) -> Result<StepSummary> {
+        match (self.settings.constitutive, summarise) {
+            (Constitutive::SmallStrain, false) => of_width::<false>(self, dt, small_strain_stress),
+            (Constitutive::SmallStrain, true) => of_width::<true>(self, dt, small_strain_stress),
+            (Constitutive::LargeStrain, false) => of_width::<false>(self, dt, large_strain_stress),
+            (Constitutive::LargeStrain, true) => of_width::<true>(self, dt, large_strain_stress),
+            (Constitutive::NeoHookean, _) => {
+                Err(Error::Usage("the fused step has no neo-Hookean law".into()))
+            }
+        }
+    }
+}
+
+/// [`step_fused_width`] at the simulation's stencil width.
+fn of_width<const ENERGY: bool>(
+    sim: &mut Simulation,
+    dt: f64,
+    law: impl Fn(f64, f64, f64) -> f64,
+) -> Result<StepSummary> {
+    match sim.workspace.stencils.width() {
+        2 => step_fused_width::<2, ENERGY>(sim, dt, law),
+        3 => step_fused_width::<3, ENERGY>(sim, dt, law),
+        4 => step_fused_width::<4, ENERGY>(sim, dt, law),
+        _ => step_fused_width::<0, ENERGY>(sim, dt, law),
+    }
+}
+
+/// [`Simulation::step_fused`] with the stencil width `W` known at compile
+/// time, the stress law (book Eq. 4.15 or 4.16) chosen, and whether to
+/// sum the energy (`ENERGY`).
+fn step_fused_width<const W: usize, const ENERGY: bool>(
+    sim: &mut Simulation,
+    dt: f64,
+    law: impl Fn(f64, f64, f64) -> f64,
+) -> Result<StepSummary> {
+    if W == 0 {
+        return Err(Error::Usage(
+            "the fused step needs a stencil width of 2 to 4".into(),
+        ));
+    }
+    let n = sim.particles.len();
+    let ws = &mut sim.workspace;
+    if ws.strain_increment.len() != n {
+        ws.strain_increment.resize(n, 0.0);
+        ws.breaks_before.resize(n, 0);
+        ws.counted_at.resize(n, f64::NAN);
+    }
+    let g = sim.gravity_in_step(dt);
+    map_particles_to_grid::<W>(sim, g)?;
+    sim.nodal_acceleration()?;
+    sim.apply_acceleration_conditions();
+    let totals = update_velocities_and_map_momentum::<W>(sim, dt);
+    let mapping = &mut sim.workspace.mapping;
+    let iterations = solve_projection(None, MassMatrix::Lumped, mapping)?;
+    let projection = diagnose_projection(None, iterations, mapping);
+    if let Some(t) = totals {
+        sim.diagnostics.record_projection_totals(
+            &projection,
+            &mapping.velocity,
+            t.fastest_particle_speed,
+            t.mass,
+            t.momentum,
+        );
+    }
+    sim.apply_velocity_conditions();
+    let screen = move_particles::<W, ENERGY>(sim, dt, law);
+    if sim.records_diagnostics {
+        sim.diagnostics
+            .record_particle_extremes(screen.max_abs_strain, screen.crossings);
+    }
+    sim.time += dt;
+    sim.diagnostics.steps += 1;
+    if screen.suspect {
+        sim.check_particles_are_physical()?;
+    }
+    Ok(StepSummary {
+        energy: if ENERGY { screen.energy } else { f64::NAN },
+        max_abs_strain: screen.max_abs_strain,
+    })
+}
+
+/// Loop 1: φ_i(x_p), ∇φ_i(x_p) into the workspace's stencils, the crossing
+/// monitor's state of a particle moved since it was counted, and the
+/// lumped mass m_i = Σ m_p φ_i (book Eq. 4.5), internal force
+/// f_i = Σ σ_p V_p ∇φ_i (Eq. 4.6), gravity Σ m_p g φ_i and traction
+/// Σ f_p φ_i (thesis §3.2; with the body force at the nodes, m_i g after
+/// the loop). A load whose weights are all zero adds only ±0 to +0 and is
+/// skipped, as in the other path.
+fn map_particles_to_grid<const W: usize>(sim: &mut Simulation, g: f64) -> Result<()> {
+    let (grid, p, ws) = (&sim.grid, &sim.particles, &mut sim.workspace);
+    let evaluator = grid
+        .fixed_width_evaluator::<W>()
+        .ok_or_else(|| Error::Usage("the fused step on a grid it does not serve".into()))?;
+    let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
+    let g_particles = if at_particles { g } else { 0.0 };
+    let loads = g_particles != 0.0 || p.traction.iter().any(|&t| t != 0.0);
+    let counts_crossings = sim.records_diagnostics;
+    for v in [
+        &mut ws.mass,
+        &mut ws.internal_force,
+        &mut ws.gravity_force,
+        &mut ws.traction_force,
+    ] {
+        v.fill(0.0);
+    }
+    let n = p.len();
+    ws.stencils.resize(n);
+    let Stencils {
+        first,
+        values,
+        gradients,
+        ..
+    } = &mut ws.stencils;
+    let rows = values.as_chunks_mut::<W>().0.iter_mut();
+    let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
+    let (x, mass, stress, volume) = (&p.x[..n], &p.mass[..n], &p.stress[..n], &p.volume[..n]);
+    let traction = &p.traction[..n];
+    let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
+    let mut vectors = [
+        &mut ws.mass[..],
+        &mut ws.internal_force[..],
+        &mut ws.gravity_force[..],
+        &mut ws.traction_force[..],
+    ];
+    let mut sums = StencilSums::<W, 4>::default();
+    for (k, (first, (phi, dphi))) in first[..n].iter_mut().zip(rows).enumerate() {
+        // Evaluated into locals, then stored: the sums below read the
+        // basis from registers, not back from the rows just written.
+        let (mut values, mut gradients) = ([0.0; W], [0.0; W]);
+        *first = evaluator.evaluate(x[k], &mut values, &mut gradients)?;
+        (*phi, *dphi) = (values, gradients);
+        let (phi, dphi) = (&values, &gradients);
+        if counts_crossings && counted_at[k] != x[k] {
+            breaks_before[k] = grid.breaks_at_or_below(x[k]);
+            counted_at[k] = x[k];
+        }
+        sums.move_to(*first, &mut vectors);
+        let [nodal_mass, force, gravity, trac] = &mut sums.sums;
+        let (m, stress_volume) = (mass[k], stress[k] * volume[k]);
+        for a in 0..W {
+            nodal_mass[a] += m * phi[a];
+            force[a] += stress_volume * dphi[a];
+        }
+        if loads {
+            let (weight, t) = (m * g_particles, traction[k]);
+            for a in 0..W {
+                gravity[a] += weight * phi[a];
+                trac[a] += t * phi[a];
+            }
+        }
+    }
+    sums.store(&mut vectors);
+    if !at_particles && g != 0.0 {
+        for (f, m) in ws.gravity_force.iter_mut().zip(&ws.mass) {
+            *f = m * g;
+        }
+    }
+    Ok(())
+}
+
+/// What loop 2 sums over the particles for the projection's record
+/// (present when the run records its diagnostics).
+struct ParticleTotals {
+    /// Σ m_p.
+    mass: f64,
+    /// Σ m_p v_p with the updated velocities.
+    momentum: f64,
+    /// max_p |v_p|.
+    fastest_particle_speed: f64,
+}
+
+/// Loop 2: v_p ← v_p + Δt Σ φ_i a_i (book Eq. 4.9), then the projection's
+/// momentum p_i = Σ m_p v_p φ_i, lumped mass M^L_i = Σ m_p φ_i Σ_j φ_j and
+/// diagonal Σ m_p φ_i² (Eq. 4.10), and the particles' totals.
+fn update_velocities_and_map_momentum<const W: usize>(
+    sim: &mut Simulation,
+    dt: f64,
+) -> Option<ParticleTotals> {
+    let (p, ws) = (&mut sim.particles, &mut sim.workspace);
+    let n = sim.grid.num_dofs();
+    let mapping = &mut ws.mapping;
+    for v in [
+        &mut mapping.momentum,
+        &mut mapping.lumped,
+        &mut mapping.diagonal,
+    ] {
+        v.clear();
+        v.resize(n, 0.0);
+    }
+    let mut vectors = [
+        &mut mapping.momentum[..],
+        &mut mapping.lumped[..],
+        &mut mapping.diagonal[..],
+    ];
+    let Stencils { first, values, .. } = &ws.stencils;
+    let acceleration = &ws.acceleration;
+    let mut sums = StencilSums::<W, 3>::default();
+    // Rust's f64 sums start from −0.0 (Particles::total_mass, total_momentum).
+    let (mut mass, mut momentum, mut fastest) = (-0.0, -0.0, 0.0f64);
+    let rows = values.as_chunks::<W>().0.iter();
+    let particles = p.velocity.iter_mut().zip(&p.mass);
+    for ((velocity, &m), (&f, phi)) in particles.zip(first.iter().zip(rows)) {
+        let v = flip_velocity(*velocity, dt, interpolate_row(phi, &acceleration[f..f + W]));
+        *velocity = v;
+        sums.move_to(f, &mut vectors);
+        let [pi, ml, mii] = &mut sums.sums;
+        accumulate_lumped_row([pi, ml, mii], phi, m, m * v);
+        mass += m;
+        momentum += m * v;
+        fastest = fastest.max(v.abs());
+    }
+    sums.store(&mut vectors);
+    sim.records_diagnostics.then_some(ParticleTotals {
+        mass,
+        momentum,
+        fastest_particle_speed: fastest,
+    })
+}
+
+/// What loop 3 finds for the monitors and the physical check.
+struct ParticleScreen {
+    /// max_p |ε_p| after the step.
+    max_abs_strain: f64,
+    /// Gradient breaks crossed in the step.
+    crossings: usize,
+    /// Σ_p ½ m_p v_p² + ½ σ_p ε_p V_p after the step (when summed).
+    energy: f64,
+    /// Whether some particle is non-finite, has a non-positive volume or
+    /// left the grid (then [`Simulation::check_particles_are_physical`]
+    /// names the first).
+    suspect: bool,
+}
+
+/// Loop 3: with Δu_i = Δt v_i, u_p and x_p grow by Σ φ_i Δu_i and
+/// Δε_p = Σ ∇φ_i Δu_i (book Eqs. 4.11–4.14); σ_p by `law` (Eq. 4.15 or
+/// 4.16); V_p, ρ_p, ε_p (Eqs. 4.17–4.18); then the particle's strain and
+/// crossings for the monitors, its physical screen and (`ENERGY`) its
+/// energy ½ m_p v_p² + ½ σ_p ε_p V_p ([`Simulation::energy`]'s terms, in
+/// its order).
+fn move_particles<const W: usize, const ENERGY: bool>(
+    sim: &mut Simulation,
+    dt: f64,
+    law: impl Fn(f64, f64, f64) -> f64,
+) -> ParticleScreen {
+    let (grid, p, ws) = (&sim.grid, &mut sim.particles, &mut sim.workspace);
+    let (young, monitors) = (sim.settings.young, sim.records_diagnostics);
+    let (lo, hi) = grid.domain();
+    let Stencils {
+        first,
+        values,
+        gradients,
+        ..
+    } = &ws.stencils;
+    let v = &ws.mapping.velocity;
+    let mut screen = ParticleScreen {
+        max_abs_strain: 0.0,
+        crossings: 0,
+        energy: -0.0,
+        suspect: false,
+    };
+    let n = p.len();
+    let mass = &p.mass[..n];
+    let (x, displacement, velocity) = (&mut p.x[..n], &mut p.displacement[..n], &p.velocity[..n]);
+    let (stress, volume) = (&mut p.stress[..n], &mut p.volume[..n]);
+    let (density, strain) = (&mut p.density[..n], &mut p.strain[..n]);
+    let (first, increments) = (&first[..n], &mut ws.strain_increment[..n]);
+    let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
+    let (values, gradients) = (
+        &values.as_chunks::<W>().0[..n],
+        &gradients.as_chunks::<W>().0[..n],
+    );
+    for k in 0..n {
+        let (du, deps) = displacement_and_strain_increment(
+            &values[k],
+            &gradients[k],
+            &v[first[k]..first[k] + W],
+            dt,
+        );
+        displacement[k] += du;
+        x[k] += du;
+        increments[k] = deps;
+        stress[k] = law(stress[k], young, deps);
+        update_volume_density_strain(&mut volume[k], &mut density[k], &mut strain[k], deps);
+        let xk = x[k];
+        screen.max_abs_strain = screen.max_abs_strain.max(strain[k].abs());
+        if ENERGY {
+            screen.energy += particle_energy(mass[k], velocity[k], stress[k], strain[k], volume[k]);
+        }
+        if monitors {
+            if !grid.breaks_at_or_below_is(breaks_before[k], xk) {
+                let after = grid.breaks_at_or_below(xk);
+                screen.crossings += after.abs_diff(breaks_before[k]);
+                breaks_before[k] = after;
+            }
+            counted_at[k] = xk;
+        }
+        // A screen, not the check: false for a NaN anywhere or a particle
+        // outside [lo, hi]; the check itself names the first culprit.
+        let inside = (xk >= lo) & (xk <= hi) & (volume[k] > 0.0);
+        screen.suspect |= !(inside & velocity[k].is_finite() & stress[k].is_finite());
+    }
+    screen
+}

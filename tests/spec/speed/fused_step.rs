@@ -1,0 +1,197 @@
+//! Issue #39: `Simulation::step` runs the book's step in three fused
+//! particle loops (src/mpm/musl/fused.rs) whenever nobody observes it; an
+//! observed step (`hompm trace`, the planted defects of `hompm check`)
+//! runs one pass per equation. Both must compute the same bits.
+
+use hompm::mpm::grid::Method;
+use hompm::mpm::monitor::StabilityMonitor;
+use hompm::mpm::musl::{Simulation, StepObserver, StepPoint};
+use hompm::scenes::{column, vibrating_bar, Discretisation};
+use hompm::Result;
+
+/// An observer that looks at every point of the step and changes nothing:
+/// it makes `step_observed` take the pass per equation.
+struct Looks;
+
+impl StepObserver for Looks {
+    fn observe(&mut self, _: StepPoint, _: &mut Simulation) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// Everything a step leaves, with every bit (`{:?}` prints each f64 so
+/// that it reads back to the same bits, −0.0 included).
+fn state(sim: &Simulation) -> String {
+    format!(
+        "{:?}\n{:?}\n{:?}\n{:?}",
+        sim.time,
+        sim.particles,
+        sim.diagnostics,
+        sim.workspace()
+    )
+}
+
+/// `steps` steps both ways from the same start; the fused run's first
+/// differing line, if any, is in the panic message.
+fn assert_same_bits(fused: &mut Simulation, passes: &mut Simulation, dt: f64, steps: usize) {
+    for k in 0..steps {
+        let a = fused.step(dt);
+        let b = passes.step_observed(dt, &mut Looks);
+        assert_eq!(
+            format!("{a:?}"),
+            format!("{b:?}"),
+            "step {k}: results differ"
+        );
+        if a.is_err() {
+            break;
+        }
+    }
+    let (a, b) = (state(fused), state(passes));
+    if a != b {
+        let line = a.lines().zip(b.lines()).position(|(x, y)| x != y);
+        panic!("the fused and the observed step differ (line {line:?} of the state)");
+    }
+}
+
+fn bar(set: &str, method: Method, cells: usize) -> Simulation {
+    let p = vibrating_bar::parameters(set).unwrap();
+    p.simulation(&Discretisation::direct(method, cells, 4))
+        .unwrap()
+}
+
+fn column_of(set: &str, method: Method, cells: usize) -> Simulation {
+    let p = column::parameters(set).unwrap();
+    p.simulation(&Discretisation::direct(method, cells, 3))
+        .unwrap()
+}
+
+/// Book Eqs. (4.5)–(4.18), fused and pass by pass, on the vibrating bar
+/// with P1, P2 and B-splines of degree 2 and 3 (stencil widths 2, 3, 3, 4):
+/// the particles, every monitor and the step's buffers agree to the bit
+/// after 400 steps, and the step taken is the fused one (it is not
+/// observed).
+#[test]
+fn the_fused_step_computes_the_bits_of_the_step_pass_by_pass_on_the_bar() {
+    for method in [
+        Method::Mpm,
+        Method::MpmP2,
+        Method::Bsmpm { degree: 2 },
+        Method::Bsmpm { degree: 3 },
+    ] {
+        let mut fused = bar("thesis-table-4.1", method, 16);
+        let mut passes = bar("thesis-table-4.1", method, 16);
+        assert!(fused.step_is_fused(), "{method:?}");
+        assert_same_bits(&mut fused, &mut passes, 1e-5, 400);
+        assert!(fused.particles.displacement.iter().any(|u| u.abs() > 1e-9));
+    }
+}
+
+/// The loads and laws of the columns, fused and pass by pass: gravity
+/// (thesis Table 4.3), the large-strain law (Table 4.4), a traction on the
+/// top (Table 8.1) and the TLS paper's ramped gravity (Table 6), each
+/// with P1 and quadratic B-splines and Dirichlet DOFs; the same bits.
+#[test]
+fn the_fused_step_computes_the_bits_of_the_step_pass_by_pass_under_loads_and_laws() {
+    for set in [
+        "thesis-table-4.3",
+        "thesis-table-4.4",
+        "thesis-table-8.1",
+        "tls-table-6",
+    ] {
+        for method in [Method::Mpm, Method::Bsmpm { degree: 2 }] {
+            let mut fused = column_of(set, method, 8);
+            let mut passes = column_of(set, method, 8);
+            assert!(fused.step_is_fused(), "{set} {method:?}");
+            assert_same_bits(&mut fused, &mut passes, 1e-4, 300);
+            assert!(fused.diagnostics.max_abs_strain > 0.0, "{set}");
+        }
+    }
+}
+
+/// With the diagnostics off the fused step records nothing either, and the
+/// particles still agree with the pass-by-pass step.
+#[test]
+fn the_fused_step_without_diagnostics_moves_the_particles_as_the_passes_do() {
+    let mut fused = bar("thesis-table-4.1", Method::Bsmpm { degree: 2 }, 16).without_diagnostics();
+    let mut passes = bar("thesis-table-4.1", Method::Bsmpm { degree: 2 }, 16).without_diagnostics();
+    assert_same_bits(&mut fused, &mut passes, 1e-5, 200);
+    assert_eq!(fused.diagnostics.max_abs_strain, 0.0);
+}
+
+/// A step that fails fails the same way fused and pass by pass: a particle
+/// thrown out of the grid (`ParticleLeftGrid`) and one with a NaN stress
+/// (`NonPhysicalParticle`), with the same error, step and particle.
+#[test]
+fn the_fused_step_fails_where_and_as_the_step_pass_by_pass_fails() {
+    let planted: [fn(&mut Simulation); 2] = [
+        |sim| sim.particles.velocity[5] = 1e7,
+        |sim| sim.particles.stress[9] = f64::NAN,
+    ];
+    for plant in planted {
+        let mut fused = bar("thesis-table-4.1", Method::Mpm, 16);
+        let mut passes = bar("thesis-table-4.1", Method::Mpm, 16);
+        plant(&mut fused);
+        plant(&mut passes);
+        let a = fused.step(1e-5);
+        let b = passes.step_observed(1e-5, &mut Looks);
+        assert!(a.is_err(), "{a:?}");
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    }
+}
+
+/// `step_summarised` reports the energy and the largest strain that a pass
+/// over the particles finds after the step (`Simulation::energy`, the same
+/// bits), and the monitor's verdict on it is `check`'s.
+#[test]
+fn the_step_summary_holds_the_energy_and_strain_a_pass_over_the_particles_finds() {
+    let mut sim = column_of("thesis-table-4.4", Method::Bsmpm { degree: 2 }, 8);
+    let mut monitor = StabilityMonitor::new(&sim, 1e-4).unwrap();
+    let mut other = monitor.clone();
+    for _ in 0..200 {
+        let summary = sim.step_summarised(1e-4).unwrap();
+        assert_eq!(summary.energy.to_bits(), sim.energy().to_bits());
+        let largest = sim
+            .particles
+            .strain
+            .iter()
+            .map(|e| e.abs())
+            .fold(0.0, f64::max);
+        assert_eq!(summary.max_abs_strain.to_bits(), largest.to_bits());
+        assert_eq!(
+            format!("{:?}", monitor.check_step(&sim, &summary)),
+            format!("{:?}", other.check(&sim))
+        );
+    }
+    assert!(sim.energy() > 0.0);
+}
+
+/// The fused loops serve the book's step only: another code's conventions,
+/// a reconstruction, a consistent mass, DDMPM's dual domain or the
+/// neo-Hookean law take the pass per equation.
+#[test]
+fn only_the_book_s_direct_lumped_step_is_fused() {
+    use hompm::mpm::conventions::Scheme;
+    use hompm::mpm::grid::NodeIntegrals;
+    use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+    let p = vibrating_bar::parameters("thesis-table-4.1").unwrap();
+    let sim = |d: &Discretisation| p.simulation(d).unwrap();
+    assert!(sim(&Discretisation::direct(Method::Mpm, 8, 2)).step_is_fused());
+    let tls = Discretisation::new(Method::Mpm, Mapping::Tls, MassMatrix::Lumped, 8, 2);
+    assert!(!sim(&tls).step_is_fused());
+    let consistent = MassMatrix::Consistent(ConsistentSolver::Cholesky);
+    let spline = Discretisation::new(
+        Method::Bsmpm { degree: 2 },
+        Mapping::Direct,
+        consistent,
+        8,
+        2,
+    );
+    assert!(!sim(&spline).step_is_fused());
+    let ddmpm = Method::Ddmpm {
+        node_integrals: NodeIntegrals::Exact,
+    };
+    assert!(!sim(&Discretisation::direct(ddmpm, 8, 2)).step_is_fused());
+    let mut usl = sim(&Discretisation::direct(Method::Mpm, 8, 2));
+    usl.settings.conventions.scheme = Scheme::Usl;
+    assert!(!usl.step_is_fused());
+}
