@@ -2,7 +2,11 @@
 //! compute bit for bit what hompm's step computes, so a ratio of their
 //! times is a ratio of the same work.
 
+mod lean_2d;
 mod lean_p1;
+#[path = "../../../benches/lean/mpm2d.rs"]
+#[allow(dead_code)]
+mod mpm2d;
 #[path = "../../../benches/lean/p1.rs"]
 #[allow(dead_code)]
 mod p1;
