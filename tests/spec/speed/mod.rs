@@ -3,7 +3,11 @@
 //! times is a ratio of the same work.
 
 mod fused_step;
+mod lean_2d;
 mod lean_p1;
+#[path = "../../../benches/lean/mpm2d.rs"]
+#[allow(dead_code)]
+mod mpm2d;
 #[path = "../../../benches/lean/p1.rs"]
 #[allow(dead_code)]
 mod p1;
