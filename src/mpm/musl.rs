@@ -383,13 +383,14 @@ impl Simulation {
     /// recorded.
     fn nodal_acceleration(&mut self) -> Result<()> {
         let ws = &mut self.workspace;
-        for i in 0..ws.mass.len() {
-            let m = ws.mass[i];
-            ws.acceleration[i] = 0.0;
-            if m != 0.0 {
-                ws.acceleration[i] =
-                    (ws.traction_force[i] + ws.gravity_force[i] - ws.internal_force[i]) / m;
-            }
+        let loads = ws.traction_force.iter().zip(&ws.gravity_force);
+        let nodes = ws.acceleration.iter_mut().zip(&ws.mass);
+        for ((a, &m), ((&trac, &grav), &int)) in nodes.zip(loads.zip(&ws.internal_force)) {
+            *a = if m != 0.0 {
+                (trac + grav - int) / m
+            } else {
+                0.0
+            };
         }
         if self.records_diagnostics {
             self.diagnostics.record_lumped_masses(&ws.mass);
@@ -558,10 +559,9 @@ impl Simulation {
         }
     }
 
-    /// The per-particle monitors, recorded in [`RunDiagnostics`](crate::mpm::diagnostics::RunDiagnostics): the largest
-    /// |ε_p| and the grid crossings
-    /// of this step, |N(x_p^{t+Δt}) − N(x_p^t)| with N(x) the number of
-    /// gradient breaks at or below x (thesis §3.3).
+    /// The per-particle monitors of [`RunDiagnostics`]: the largest |ε_p| and
+    /// this step's grid crossings |N(x_p^{t+Δt}) − N(x_p^t)|, N(x) the
+    /// number of gradient breaks at or below x (thesis §3.3).
     fn record_particle_monitors(&mut self) {
         let (p, ws) = (&self.particles, &mut self.workspace);
         let mut crossings = 0;

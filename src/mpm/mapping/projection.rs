@@ -103,8 +103,9 @@ pub fn solve_projection(
             }
         }
         _ => {
+            let (velocity, momentum, lumped) = (&mut ws.velocity[..n], &ws.momentum, &ws.lumped);
             for &i in &ws.solve.active {
-                ws.velocity[i] = ws.momentum[i] / ws.lumped[i];
+                velocity[i] = momentum[i] / lumped[i];
             }
         }
     }
@@ -158,15 +159,23 @@ pub fn diagnose_projection(
     solver_iterations: usize,
     ws: &mut MappingWorkspace,
 ) -> Projection {
-    let grid_mass: f64 = ws.lumped.iter().sum();
+    // The active DOFs are those with M_ii ≠ 0 (`solve_projection`); the
+    // extremes do not depend on the order, and each sum below runs in DOF
+    // order from −0.0 as `Iterator::sum` does, both in one pass.
     let (mut dmax, mut dmin) = (0.0, f64::INFINITY);
-    for &i in &ws.solve.active {
-        dmax = f64::max(dmax, ws.diagonal[i]);
-        dmin = f64::min(dmin, ws.diagonal[i]);
+    let (mut grid_mass, mut lumped_momentum) = (-0.0, -0.0);
+    let rows = ws.lumped.iter().zip(&ws.velocity).zip(&ws.diagonal);
+    for ((&m, &v), &d) in rows {
+        grid_mass += m;
+        lumped_momentum += m * v;
+        if d != 0.0 {
+            dmax = f64::max(dmax, d);
+            dmin = f64::min(dmin, d);
+        }
     }
     let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };
     let grid_momentum = match consistent {
-        None => ws.lumped.iter().zip(&ws.velocity).map(|(m, v)| m * v).sum(),
+        None => lumped_momentum,
         Some(full) => {
             ws.solve.rhs.clear();
             ws.solve.rhs.resize(ws.velocity.len(), 0.0);

@@ -117,7 +117,13 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
         ws.counted_at.resize(n, f64::NAN);
     }
     let g = sim.gravity_in_step(dt);
-    map_particles_to_grid::<W>(sim, g)?;
+    let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
+    let traction = sim.particles.traction.iter().any(|&t| t != 0.0);
+    if traction || (at_particles && g != 0.0) {
+        map_particles_to_grid::<W, true>(sim, g)?;
+    } else {
+        map_particles_to_grid::<W, false>(sim, g)?;
+    }
     sim.nodal_acceleration()?;
     sim.apply_acceleration_conditions();
     let totals = update_velocities_and_map_momentum::<W>(sim, dt);
@@ -155,16 +161,19 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
 /// lumped mass m_i = Σ m_p φ_i (book Eq. 4.5), internal force
 /// f_i = Σ σ_p V_p ∇φ_i (Eq. 4.6), gravity Σ m_p g φ_i and traction
 /// Σ f_p φ_i (thesis §3.2; with the body force at the nodes, m_i g after
-/// the loop). A load whose weights are all zero adds only ±0 to +0 and is
-/// skipped, as in the other path.
-fn map_particles_to_grid<const W: usize>(sim: &mut Simulation, g: f64) -> Result<()> {
+/// the loop). Without `LOADS` (no traction, no gravity at the particles)
+/// the loads are not added: a load whose weights are all zero adds only ±0
+/// to +0, and the other path skips it too.
+fn map_particles_to_grid<const W: usize, const LOADS: bool>(
+    sim: &mut Simulation,
+    g: f64,
+) -> Result<()> {
     let (grid, p, ws) = (&sim.grid, &sim.particles, &mut sim.workspace);
     let evaluator = grid
         .fixed_width_evaluator::<W>()
         .ok_or_else(|| Error::Usage("the fused step on a grid it does not serve".into()))?;
     let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
     let g_particles = if at_particles { g } else { 0.0 };
-    let loads = g_particles != 0.0 || p.traction.iter().any(|&t| t != 0.0);
     let counts_crossings = sim.records_diagnostics;
     for v in [
         &mut ws.mass,
@@ -212,7 +221,7 @@ fn map_particles_to_grid<const W: usize>(sim: &mut Simulation, g: f64) -> Result
             nodal_mass[a] += m * phi[a];
             force[a] += stress_volume * dphi[a];
         }
-        if loads {
+        if LOADS {
             let (weight, t) = (m * g_particles, traction[k]);
             for a in 0..W {
                 gravity[a] += weight * phi[a];
