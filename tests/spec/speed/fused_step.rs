@@ -170,9 +170,11 @@ fn the_step_summary_holds_the_energy_and_strain_a_pass_over_the_particles_finds(
 /// neo-Hookean law take the pass per equation.
 #[test]
 fn only_the_book_s_direct_lumped_step_is_fused() {
-    use hompm::mpm::conventions::Scheme;
+    use hompm::mpm::conventions::{Positions, Scheme, Transfer};
     use hompm::mpm::grid::NodeIntegrals;
     use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
+    use hompm::mpm::musl::Constitutive;
+    use hompm::scenes::manufactured_strip;
     let p = vibrating_bar::parameters("thesis-table-4.1").unwrap();
     let sim = |d: &Discretisation| p.simulation(d).unwrap();
     assert!(sim(&Discretisation::direct(Method::Mpm, 8, 2)).step_is_fused());
@@ -191,7 +193,27 @@ fn only_the_book_s_direct_lumped_step_is_fused() {
         node_integrals: NodeIntegrals::Exact,
     };
     assert!(!sim(&Discretisation::direct(ddmpm, 8, 2)).step_is_fused());
-    let mut usl = sim(&Discretisation::direct(Method::Mpm, 8, 2));
-    usl.settings.conventions.scheme = Scheme::Usl;
-    assert!(!usl.step_is_fused());
+    let book = || sim(&Discretisation::direct(Method::Mpm, 8, 2));
+    let changed: [fn(&mut Simulation); 7] = [
+        |s| s.settings.conventions.scheme = Scheme::Usl,
+        |s| s.settings.conventions.transfer = Transfer::Pic,
+        |s| s.settings.conventions.positions = Positions::Grid,
+        |s| s.settings.force_mapping = Mapping::Tls,
+        |s| s.settings.consistent_acceleration = true,
+        |s| s.settings.constitutive = Constitutive::NeoHookean,
+        |s| s.settings.mass = MassMatrix::Consistent(ConsistentSolver::Cholesky),
+    ];
+    for change in changed {
+        let mut s = book();
+        change(&mut s);
+        assert!(!s.step_is_fused(), "{:?}", s.settings);
+    }
+    let strip = manufactured_strip::parameters("mls-paper-code")
+        .unwrap()
+        .placed(8);
+    let field = strip.simulation(&Discretisation::direct(Method::Bsmpm { degree: 2 }, 8, 5));
+    let mut with_field = book();
+    with_field.settings.body_force = field.unwrap().settings.body_force;
+    assert!(with_field.settings.body_force.is_some());
+    assert!(!with_field.step_is_fused());
 }
