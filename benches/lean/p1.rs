@@ -16,7 +16,8 @@
 //!   fl(fl(1 − ξ) + ξ) = 1 for ξ in [0, 1] (Eq. 4.10);
 //! - Δu_p = Σ φ_i (Δt v_i), Δε_p = Σ ∇φ_i (Δt v_i) (Eqs. 4.11–4.14).
 //!
-//! Where it saves time: the basis of a particle is evaluated in the loop
+//! Where it saves time: nodal sums stay in registers while consecutive
+//! particles share an element (`Pair`); the basis of a particle is evaluated in the loop
 //! that moves it and kept for the next step; the velocity update (Eq. 4.9)
 //! is fused with the projection's scatter, and the position, stress and
 //! volume updates (Eqs. 4.11–4.18) with the next step's basis and its
@@ -140,15 +141,17 @@ impl LeanP1 {
             .iter_mut()
             .zip(&self.mass)
             .zip(self.element.iter().zip(&self.xi));
+        let mut p = Pair::EMPTY;
         for ((velocity, &m), (&e, &xi)) in particles {
             let phi = [1.0 - xi, xi];
             let a = &acceleration[e..e + 2];
             *velocity += dt * (phi[0] * a[0] + phi[1] * a[1]);
             let mv = m * *velocity;
-            let p = &mut momentum[e..e + 2];
-            p[0] += mv * phi[0];
-            p[1] += mv * phi[1];
+            p.move_to(e, momentum);
+            p.sums[0] += mv * phi[0];
+            p.sums[1] += mv * phi[1];
         }
+        p.finish(momentum);
         // v_i = p_i / m_i where the mass reaches (the lumped mass of the
         // projection is the nodal mass, bit for bit, for P1).
         for i in 0..nodes {
@@ -180,6 +183,7 @@ impl LeanP1 {
             .zip(&mut self.strain)
             .zip(&self.mass)
             .zip(self.element.iter_mut().zip(&mut self.xi));
+        let (mut mass_sums, mut force_sums) = (Pair::EMPTY, Pair::EMPTY);
         for (((((((x, u), stress), volume), density), strain), &m), (e, xi)) in particles {
             let (dv0, dv1) = (dt * v[*e], dt * v[*e + 1]);
             let du = 0.0 + (1.0 - *xi) * dv0 + *xi * dv1;
@@ -191,8 +195,16 @@ impl LeanP1 {
             *density /= 1.0 + deps;
             *strain += deps;
             (*e, *xi) = grid.locate(*x);
-            grid.scatter(*e, *xi, m, *stress * *volume, nodal_mass, nodal_force);
+            mass_sums.move_to(*e, nodal_mass);
+            force_sums.move_to(*e, nodal_force);
+            let sv = *stress * *volume;
+            mass_sums.sums[0] += m * (1.0 - *xi);
+            mass_sums.sums[1] += m * *xi;
+            force_sums.sums[0] += sv * -ih;
+            force_sums.sums[1] += sv * ih;
         }
+        mass_sums.finish(nodal_mass);
+        force_sums.finish(nodal_force);
         self.momentum = v;
     }
 }
@@ -222,5 +234,49 @@ impl Basis {
         mass[1] += m * xi;
         force[0] += sv * -self.inverse_h;
         force[1] += sv * self.inverse_h;
+    }
+}
+
+/// The two nodal sums of the element a run of particles shares, kept in
+/// registers (the lean step): when the element changes to the next
+/// one, the shared node's sum stays in a register and only the node that
+/// leaves is stored and the one that enters loaded; any other change
+/// stores both and loads both. The same additions in the same order as
+/// adding into the nodal vector, so the same bits.
+#[derive(Clone, Copy)]
+struct Pair {
+    element: usize,
+    sums: [f64; 2],
+}
+
+impl Pair {
+    /// No element yet.
+    const EMPTY: Self = Self {
+        element: usize::MAX,
+        sums: [0.0; 2],
+    };
+
+    #[inline(always)]
+    fn move_to(&mut self, e: usize, nodal: &mut [f64]) {
+        if e == self.element {
+            return;
+        }
+        if self.element != usize::MAX && e == self.element + 1 {
+            nodal[self.element] = self.sums[0];
+            self.sums = [self.sums[1], nodal[e + 1]];
+        } else {
+            self.finish(nodal);
+            self.sums = [nodal[e], nodal[e + 1]];
+        }
+        self.element = e;
+    }
+
+    /// Stores the sums of the current element.
+    #[inline(always)]
+    fn finish(&self, nodal: &mut [f64]) {
+        if self.element != usize::MAX {
+            nodal[self.element] = self.sums[0];
+            nodal[self.element + 1] = self.sums[1];
+        }
     }
 }
