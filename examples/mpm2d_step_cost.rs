@@ -14,13 +14,14 @@
 #[path = "../benches/lean/mpm2d.rs"]
 mod mpm2d;
 
+use hompm::mpm2d::Mapping2d;
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use mpm2d::{LeanBilinear2d, LeanBsmpm2d};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let usage =
-        "usage: mpm2d_step_cost hompm-bsmpm|lean-bsmpm|hompm-bilinear|lean-bilinear CELLS STEPS";
+        "usage: mpm2d_step_cost hompm-bsmpm|lean-bsmpm|hompm-bilinear|lean-bilinear|hompm-mls|hompm-tls|hompm-pu-tls CELLS STEPS";
     let (variant, cells, steps) = match args.as_slice() {
         [_, v, c, s] => (v.as_str(), c.parse::<usize>()?, s.parse::<usize>()?),
         _ => return Err(usage.into()),
@@ -28,6 +29,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let method = match variant {
         "hompm-bsmpm" | "lean-bsmpm" => AlignedMethod::bsmpm(2),
         "hompm-bilinear" | "lean-bilinear" => AlignedMethod::Mpm,
+        "hompm-mls" => AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
+        "hompm-tls" => AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
+        "hompm-pu-tls" => AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
         _ => return Err(usage.into()),
     };
     let scene = parameters("mls-paper-e1e7")?;

@@ -1,7 +1,8 @@
 //! # `hompm reproduce`: every table, the studies, the report
 //!
 //! Checks its output locations first, then runs the registered tables (with
-//! a progress bar on a terminal), the studies and charts, writes the report,
+//! a progress bar on a terminal) and, beside them, the studies, then the
+//! charts, writes the report,
 //! and fails if a number marked reproduced in golden/reproduced.json no
 //! longer reproduces.
 //!
@@ -111,17 +112,20 @@ fn run_tables(ids: &[&str], options: RunOptions) -> Result<Vec<tables::TableRepo
     Ok(reports)
 }
 
-/// The studies (`studies::report`), then their charts (`report`), which
-/// only render.
-fn run_studies(
+/// The studies (`studies::report`); they need no table.
+fn run_studies(quick: bool) -> Result<crate::studies::report::ReportStudies> {
+    let done = |name: &str, seconds: f64| eprintln!("study {name} ({seconds:.1} s)");
+    crate::studies::report::run_report_studies(quick, &done)
+}
+
+/// The charts of the tables and studies (`report`), which only render.
+fn write_charts(
     out: &Path,
     reports: &[tables::TableReport],
-    quick: bool,
+    studies: &crate::studies::report::ReportStudies,
 ) -> Result<BTreeMap<String, serde_json::Value>> {
-    let done = |name: &str, seconds: f64| eprintln!("study {name} ({seconds:.1} s)");
-    let studies = crate::studies::report::run_report_studies(quick, &done)?;
-    report::write_charts(&out.join("charts"), reports, &studies)?;
-    report::studies_json(&studies)
+    report::write_charts(&out.join("charts"), reports, studies)?;
+    report::studies_json(studies)
 }
 
 /// `hompm reproduce`.
@@ -131,17 +135,20 @@ pub fn reproduce(a: ReproduceArgs) -> Result<Output> {
         .into_iter()
         .filter(|id| a.only.is_empty() || a.only.iter().any(|o| o == id))
         .collect();
-    let reports = run_tables(
-        &ids,
-        RunOptions {
-            quick: a.quick,
-            full: a.full,
-        },
-    )?;
-    let studies = if a.only.is_empty() {
-        run_studies(&a.out, &reports, a.quick)?
+    let options = RunOptions {
+        quick: a.quick,
+        full: a.full,
+    };
+    // The studies need no table: they run beside the tables, so that their
+    // one-thread parts (the solver and speed timings) fill the core the
+    // tables' last runs leave idle, instead of running after them on one.
+    let (reports, studies) = if a.only.is_empty() {
+        let (reports, studies) = rayon::join(|| run_tables(&ids, options), || run_studies(a.quick));
+        let (reports, studies) = (reports?, studies?);
+        let charts = write_charts(&a.out, &reports, &studies)?;
+        (reports, charts)
     } else {
-        BTreeMap::new()
+        (run_tables(&ids, options)?, BTreeMap::new())
     };
     let options = report::ReproduceOptions {
         out: a.out.clone(),

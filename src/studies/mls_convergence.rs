@@ -24,7 +24,9 @@
 //! Every run is independent and single-threaded; one worker per rayon
 //! thread takes the next job of a longest-first list, and the results are
 //! put back in input order, so the numbers do not depend on the scheduling
-//! (the wall times do).
+//! (the wall times do). A stability scan whose first trial is one of the
+//! convergence runs (the default run: 16 cells, Δt = 1e-5 s, 2000 steps)
+//! takes that run's stop instead of repeating it, the same bits.
 //!
 //! The combinations themselves are in the child module `combinations`
 //! (re-exported here).
@@ -276,10 +278,32 @@ pub fn largest_stable_dt(
     per_side: usize,
     o: &StabilityOptions,
 ) -> Result<StabilityLimit> {
+    scan_stable_dt(base, combination, per_side, o, None)
+}
+
+/// The steps of a stability trial of Δt `dt` to `end_time`.
+fn trial_steps(end_time: f64, dt: f64) -> usize {
+    ((end_time / dt) - 1e-9).ceil().max(1.0) as usize
+}
+
+/// [`largest_stable_dt`], with the stop of the first trial (Δt =
+/// `o.smallest_dt`) given when a run of the study already made it (the
+/// same run: same combination, cells, Δt and steps).
+fn scan_stable_dt(
+    base: &AlignedVibration,
+    combination: &Combination,
+    per_side: usize,
+    o: &StabilityOptions,
+    first: Option<Option<Stop>>,
+) -> Result<StabilityLimit> {
     let mut trials = 0;
+    let mut first = first;
     let mut trial = |dt: f64| -> Result<Option<Stop>> {
         trials += 1;
-        let steps = ((o.end_time / dt) - 1e-9).ceil().max(1.0) as usize;
+        if let Some(stop) = first.take() {
+            return Ok(stop);
+        }
+        let steps = trial_steps(o.end_time, dt);
         let run = run_combination(base, combination, o.cells, per_side, dt, steps, [None; 2])?;
         Ok(run.stop)
     };
@@ -387,34 +411,78 @@ pub fn convention_study(o: &ConventionStudyOptions) -> Result<ConventionStudy> {
             3.4 * per_cell * (s.cells * s.cells) as f64 * s.end_time / s.smallest_dt
         }
     };
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by(|&a, &b| cost(&jobs[b]).total_cmp(&cost(&jobs[a])));
+    // Work items: one job, or a run and the stability scan whose first
+    // trial it is (same combination, cells, Δt and steps, and no error
+    // evaluation before its end that could stop it earlier), run in that
+    // order so that the scan takes the run's stop instead of repeating it.
+    let mut work: Vec<Vec<usize>> = Vec::new();
+    let mut paired = vec![false; jobs.len()];
+    for (i, j) in jobs.iter().enumerate() {
+        let Job::Stability {
+            combination,
+            options: s,
+        } = j
+        else {
+            continue;
+        };
+        let only_at_end = [Some(o.early_steps), o.peak_steps]
+            .iter()
+            .all(|r| r.is_none_or(|k| k >= o.steps));
+        let same_run = s.smallest_dt.to_bits() == o.dt.to_bits()
+            && trial_steps(s.end_time, s.smallest_dt) == o.steps
+            && only_at_end;
+        let run = jobs.iter().position(|r| {
+            matches!(r, Job::Run { combination: c, cells } if c == combination && *cells == s.cells)
+        });
+        if let (true, Some(r)) = (same_run, run) {
+            paired[r] = true;
+            paired[i] = true;
+            work.push(vec![r, i]);
+        }
+    }
+    work.extend((0..jobs.len()).filter(|&i| !paired[i]).map(|i| vec![i]));
+    let work_cost = |w: &Vec<usize>| -> f64 {
+        let total: f64 = w.iter().map(|&i| cost(&jobs[i])).sum();
+        // A paired scan does not repeat its first trial.
+        total - if w.len() > 1 { cost(&jobs[w[0]]) } else { 0.0 }
+    };
+    let mut order: Vec<usize> = (0..work.len()).collect();
+    order.sort_by(|&a, &b| work_cost(&work[b]).total_cmp(&work_cost(&work[a])));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let done: std::sync::Mutex<Vec<(usize, Result<Done>)>> = std::sync::Mutex::new(Vec::new());
     (0..rayon::current_num_threads().max(1))
         .into_par_iter()
         .for_each(|_| loop {
             let k = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-            let Some(&i) = order.get(k) else { break };
-            let result = match jobs[i] {
-                Job::Run { combination, cells } => run_combination(
-                    &base,
-                    &all[combination],
-                    cells,
-                    o.per_side,
-                    o.dt,
-                    o.steps,
-                    [Some(o.early_steps), o.peak_steps],
-                )
-                .map(|r| Done::Run(ConventionRun { combination, ..r })),
-                Job::Stability {
-                    combination,
-                    options,
-                } => largest_stable_dt(&base, &all[combination], o.per_side, &options)
-                    .map(|l| Done::Stability(StabilityLimit { combination, ..l })),
-            };
-            if let Ok(mut d) = done.lock() {
-                d.push((i, result));
+            let Some(&w) = order.get(k) else { break };
+            // The stop of the item's run, for the scan that follows it.
+            let mut first: Option<Option<Stop>> = None;
+            for &i in &work[w] {
+                let result = match jobs[i] {
+                    Job::Run { combination, cells } => run_combination(
+                        &base,
+                        &all[combination],
+                        cells,
+                        o.per_side,
+                        o.dt,
+                        o.steps,
+                        [Some(o.early_steps), o.peak_steps],
+                    )
+                    .map(|r| {
+                        first = Some(r.stop.clone());
+                        Done::Run(ConventionRun { combination, ..r })
+                    }),
+                    Job::Stability {
+                        combination,
+                        options,
+                    } => {
+                        scan_stable_dt(&base, &all[combination], o.per_side, &options, first.take())
+                            .map(|l| Done::Stability(StabilityLimit { combination, ..l }))
+                    }
+                };
+                if let Ok(mut d) = done.lock() {
+                    d.push((i, result));
+                }
             }
         });
     let mut results = done.into_inner().unwrap_or_default();
