@@ -160,6 +160,9 @@ pub struct Simulation2d {
     /// What the reconstruction (if any) met so far: the largest condition
     /// number of its small systems and the most cells repaired in one step.
     pub reconstruction_record: ReconstructionRecord,
+    /// Whether the steps record `conservation` and `reconstruction_record`
+    /// (off with [`Simulation2d::without_diagnostics`]).
+    records_diagnostics: bool,
 }
 
 /// The largest κ and the most repaired cells of a run's reconstructions
@@ -248,12 +251,31 @@ impl Simulation2d {
             steps: 0,
             conservation: Conservation2d::default(),
             reconstruction_record: ReconstructionRecord::default(),
+            records_diagnostics: true,
         };
         evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0)?;
         if settings.formulation == Formulation::TotalLagrangian {
             evaluate_basis_at_reference(&sim.grid, &sim.particles, &mut sim.workspace)?;
         }
         Ok(sim)
+    }
+
+    /// The same simulation with its run monitors off: the steps skip the
+    /// mapping errors ([`Simulation2d::conservation`], four compensated sums
+    /// over the particles per step) and the reconstruction's record, which
+    /// keep their initial values. The particles and the grid evolve bit for
+    /// bit as with them on. For timing what the monitors cost, as the 1D
+    /// `Simulation::without_diagnostics` (examples/mpm2d_step_cost.rs,
+    /// issue #39).
+    pub fn without_diagnostics(mut self) -> Self {
+        self.records_diagnostics = false;
+        self
+    }
+
+    /// Whether the steps record the mapping errors and the reconstruction's
+    /// record ([`Simulation2d::without_diagnostics`]).
+    pub fn records_diagnostics(&self) -> bool {
+        self.records_diagnostics
     }
 
     /// One step of length Δt > 0, MLS paper Eqs. (18)–(37).
@@ -295,8 +317,10 @@ impl Simulation2d {
             if at_nodes && self.body_force.is_some() {
                 add_nodal_body_force(ws);
             }
-            record_conservation(p, ws, &mut self.conservation);
-            if let Some(shapes) = &ws.reconstruction {
+            if self.records_diagnostics {
+                record_conservation(p, ws, &mut self.conservation);
+            }
+            if let (Some(shapes), true) = (&ws.reconstruction, self.records_diagnostics) {
                 let r = &mut self.reconstruction_record;
                 r.largest_condition = r.largest_condition.max(shapes.largest_condition());
                 r.most_repaired = r.most_repaired.max(shapes.repaired());
