@@ -32,11 +32,10 @@ use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
-use super::workspace::{Conservation2d, StepWorkspace2d};
+use super::workspace::StepWorkspace2d;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
-use crate::mpm::diagnostics::CompensatedSum;
 
 mod other_codes;
 use nalgebra::Matrix2;
@@ -289,37 +288,6 @@ fn scatter_gauss_point(
         ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
         ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
     });
-}
-
-/// The mapping errors of phase 1 into `c` (mass |Σ_i m_i − Σ_p m_p| / Σ_p m_p,
-/// momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, [`Conservation2d`]):
-/// the four particle sums in one pass and the three nodal sums in another,
-/// each a [`CompensatedSum`] over the same terms in the same order as one
-/// pass per sum.
-pub(super) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
-    // Compensated sums on both sides, so that the monitor measures the
-    // mapping's rounding and not that of its own sums.
-    let [mut particle_mass, mut scale, mut px, mut py] = [CompensatedSum::default(); 4];
-    for (&m, v) in p.mass.iter().zip(&p.velocity) {
-        particle_mass.add(m);
-        scale.add(m * (v[0] * v[0] + v[1] * v[1]).sqrt());
-        px.add(m * v[0]);
-        py.add(m * v[1]);
-    }
-    let [mut grid_mass, mut gx, mut gy] = [CompensatedSum::default(); 3];
-    for (&m, mv) in ws.mass.iter().zip(&ws.momentum) {
-        grid_mass.add(m);
-        gx.add(mv[0]);
-        gy.add(mv[1]);
-    }
-    let (particle_mass, scale) = (particle_mass.total(), scale.total());
-    c.mass = c
-        .mass
-        .max((grid_mass.total() - particle_mass).abs() / particle_mass);
-    if scale > 0.0 {
-        let (dx, dy) = (gx.total() - px.total(), gy.total() - py.total());
-        c.momentum = c.momentum.max(dx.hypot(dy) / scale);
-    }
 }
 
 /// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components

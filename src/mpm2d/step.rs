@@ -48,7 +48,8 @@
 use super::grid::{Basis2d, Grid2d};
 use super::material::NeoHookean;
 use super::particles::Particles2d;
-use super::phases::{evaluate_basis_at_reference, record_conservation};
+use super::phases::evaluate_basis_at_reference;
+use super::workspace::record_conservation;
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{BodyForceAt, Conventions, Gradient, Positions, Scheme, Transfer};
 use crate::spline::bspline::SpanScratch;
