@@ -24,8 +24,9 @@
 //!
 //! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
 //! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
-//! [`end_of_step_velocity`], [`update_deformation`],
-//! [`update_deformation_reference`].
+//! [`end_of_step_velocity`], [`update_deformation`] (and, from submodules,
+//! the total-Lagrangian `update_deformation_reference` and other codes'
+//! phases).
 
 use super::grid::Grid2d;
 use super::mapping::Mapping2d;
@@ -38,10 +39,13 @@ use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
 
 mod other_codes;
+mod reference;
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
 };
+pub(super) use reference::evaluate_basis_at_reference;
+pub use reference::update_deformation_reference;
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
 /// outside [0, L]² is `Error::ParticleLeftGrid`.
@@ -71,18 +75,6 @@ pub fn evaluate_basis(
         }
     }
     Ok(())
-}
-
-/// The stencils at the initial positions X_p, once, for the
-/// total-Lagrangian reference ([`Formulation::TotalLagrangian`]).
-pub(super) fn evaluate_basis_at_reference(
-    grid: &Grid2d,
-    p: &Particles2d,
-    ws: &mut StepWorkspace2d,
-) -> Result<()> {
-    let axis = grid.axis();
-    axis.fill_stencils(&p.x0, |x| x[0], &mut ws.stencils_x, &mut ws.scratch)?;
-    axis.fill_stencils(&p.x0, |x| x[1], &mut ws.stencils_y, &mut ws.scratch)
 }
 
 /// The tensor-product stencil of one point, MLS paper Eqs. (4)–(5): from
@@ -132,6 +124,33 @@ impl<'a> TensorStencil<'a> {
             }
         }
     }
+}
+
+/// The tensor stencils of every particle, in particle order, from the
+/// workspace's 1D stencils of width `w` (the compile-time `W` of the
+/// loops that call it, so that each row has a known length and no slice
+/// is checked per particle).
+#[inline(always)]
+fn particle_stencils<'a>(
+    sx: &'a Stencils,
+    sy: &'a Stencils,
+    w: usize,
+    n: usize,
+) -> impl Iterator<Item = TensorStencil<'a>> + 'a {
+    let along_x = sx.values.chunks_exact(w).zip(sx.gradients.chunks_exact(w));
+    let along_y = sy.values.chunks_exact(w).zip(sy.gradients.chunks_exact(w));
+    let firsts = sx.first.iter().zip(&sy.first);
+    along_x
+        .zip(along_y)
+        .zip(firsts)
+        .map(move |(((vx, gx), (vy, gy)), (&fx, &fy))| TensorStencil {
+            values_x: vx,
+            gradients_x: gx,
+            values_y: vy,
+            gradients_y: gy,
+            first: fy * n + fx,
+            nodes_per_side: n,
+        })
 }
 
 fn clear_nodes(ws: &mut StepWorkspace2d) {
@@ -190,12 +209,12 @@ fn map_direct_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
-        let m = p.mass[k];
-        let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
-        let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
+    let particles = p.mass.iter().zip(&p.velocity).zip(&ws.body_force);
+    for (k, (((&m, v), b), stencil)) in particles.zip(particle_stencils(sx, sy, w, n)).enumerate() {
+        let mv = [m * v[0], m * v[1]];
+        let mb = [m * b[0], m * b[1]];
         let s = stress(k);
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, dn| {
+        stencil.for_each(|i, nn, dn| {
             ws.mass[i] += nn * m;
             ws.momentum[i][0] += nn * mv[0];
             ws.momentum[i][1] += nn * mv[1];
@@ -372,9 +391,9 @@ fn update_particles_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
+    for (k, stencil) in particle_stencils(sx, sy, w, n).enumerate().take(p.len()) {
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+        stencil.for_each(|i, nn, _| {
             a[0] += nn * ws.acceleration[i][0];
             a[1] += nn * ws.acceleration[i][1];
             v[0] += nn * ws.velocity_next[i][0];
@@ -453,9 +472,10 @@ fn map_particle_momentum_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
-        let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+    let particles = p.mass.iter().zip(&p.velocity);
+    for ((&m, v), stencil) in particles.zip(particle_stencils(sx, sy, w, n)) {
+        let mv = [m * v[0], m * v[1]];
+        stencil.for_each(|i, nn, _| {
             ws.momentum_end[i][0] += nn * mv[0];
             ws.momentum_end[i][1] += nn * mv[1];
         });
@@ -497,25 +517,9 @@ pub fn update_deformation(
     )
 }
 
-/// [`update_deformation`] of the total-Lagrangian reference: Ḟ = ∇_X v, so
-/// F_p ← F_p + Δt Σ_i v_i^L ⊗ ∇_X N_i(X_p).
-pub fn update_deformation_reference(
-    grid: &Grid2d,
-    p: &mut Particles2d,
-    ws: &StepWorkspace2d,
-    material: &NeoHookean,
-    dt: f64,
-) -> Result<()> {
-    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| f + l * dt;
-    with_width!(
-        grid.stencil_width(),
-        update_deformation_with::<W>(grid, p, ws, material, rule)
-    )
-}
-
 /// [`update_deformation`] for stencil width `W` (0: any width); `rule(L, F)`
 /// is the new F from the interpolated gradient L = Σ_i v_i ⊗ ∇N_i.
-fn update_deformation_with<const W: usize>(
+pub(super) fn update_deformation_with<const W: usize>(
     grid: &Grid2d,
     p: &mut Particles2d,
     ws: &StepWorkspace2d,
@@ -525,9 +529,9 @@ fn update_deformation_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
+    for (k, stencil) in particle_stencils(sx, sy, w, n).enumerate().take(p.len()) {
         let mut l = [0.0; 4];
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, _, dn| {
+        stencil.for_each(|i, _, dn| {
             let v = ws.velocity_end[i];
             l[0] += v[0] * dn[0];
             l[1] += v[0] * dn[1];

@@ -1,12 +1,15 @@
 //! Issue #39, the 2D step: what was made faster computes the same bits.
 //! The mapping-error record sums the particles in one pass
 //! (`record_conservation`), and `Simulation2d::without_diagnostics` skips
-//! it without changing the particles.
+//! it without changing the particles; the neo-Hookean σ is formed entry by
+//! entry with the bits of its matrix expression.
 
 use hompm::mpm::diagnostics::compensated_sum;
+use hompm::mpm2d::material::NeoHookean;
 use hompm::mpm2d::step::{Conservation2d, Simulation2d, StepObserver2d, StepPoint2d};
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use hompm::Result;
+use nalgebra::Matrix2;
 
 /// The aligned vibration of the MLS paper on `cells` cells per side, 9
 /// particles per cell.
@@ -95,4 +98,46 @@ fn the_2d_step_without_diagnostics_moves_the_particles_as_with_them() {
         assert_eq!(off.conservation, Conservation2d::default());
         assert_ne!(on.conservation, Conservation2d::default());
     }
+}
+
+/// σ of Eq. (41) entry by entry (`NeoHookean::cauchy_stress_given_jacobian`)
+/// is, bit for bit, the matrix expression (λ ln J / J) I + (F Fᵀ − I)(μ / J)
+/// nalgebra evaluates, for deformations near and far from I, with signed
+/// zeros off the diagonal.
+#[test]
+fn the_stress_entry_by_entry_is_the_matrix_expression_bit_for_bit() {
+    let material = NeoHookean::from_young_poisson(1e7, 0.3).unwrap();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let mut checked = 0;
+    for k in 0..20_000 {
+        let scale = [1e-12, 1e-6, 1e-2, 0.5][k % 4];
+        let mut f = Matrix2::new(
+            1.0 + scale * next(),
+            scale * next(),
+            scale * next(),
+            1.0 + scale * next(),
+        );
+        if k % 5 == 0 {
+            f[(0, 1)] = -0.0;
+            f[(1, 0)] = if k % 10 == 0 { 0.0 } else { -0.0 };
+        }
+        let Ok(j) = NeoHookean::jacobian(&f) else {
+            continue;
+        };
+        let b = f * f.transpose();
+        let expected = Matrix2::identity() * (material.lambda * j.ln() / j)
+            + (b - Matrix2::identity()) * (material.mu / j);
+        let got = material.cauchy_stress_given_jacobian(&f, j);
+        for (g, e) in got.iter().zip(expected.iter()) {
+            assert_eq!(g.to_bits(), e.to_bits(), "F = {f:?}");
+        }
+        checked += 1;
+    }
+    assert!(checked > 19_000);
 }
