@@ -24,7 +24,9 @@
 //!
 //! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
 //! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
-//! [`end_of_step_velocity`], [`update_deformation`] (and, from submodules,
+//! [`end_of_step_velocity`], [`end_of_step_velocity_from_momentum`],
+//! [`update_deformation`] (and, from submodules, the fused
+//! `update_particles_and_end_momentum`,
 //! the total-Lagrangian `update_deformation_reference` and other codes'
 //! phases).
 
@@ -38,8 +40,10 @@ use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
 
+mod fused;
 mod other_codes;
 mod reference;
+pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
@@ -450,6 +454,13 @@ pub fn end_of_step_velocity(
             map_particle_momentum_with::<W>(grid, p, ws)
         ),
     }
+    end_of_step_velocity_from_momentum(grid, ws);
+}
+
+/// Eqs. (32)–(33) from (mv)^L in `momentum_end`: v_i^L = (mv)_i^L / m_i into
+/// `velocity_end`, with the walls' conditions.
+pub fn end_of_step_velocity_from_momentum(grid: &Grid2d, ws: &mut StepWorkspace2d) {
+    let n = grid.nodes_per_side();
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
         ws.velocity_end[i] = if m > 0.0 {

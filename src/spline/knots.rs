@@ -241,7 +241,7 @@ impl KnotVector {
     ///
     /// Inlined for the steps' hot path: a point of a uniform knot vector
     /// strictly inside [a, b) (so finite) takes the O(1) guess here, in
-    /// registers; every other point ([`Self::find_span_checked`]) is checked
+    /// registers; every other point (`find_span_checked`) is checked
     /// and searched out of line. The same span either way (issue #39: the
     /// out-of-line call cost about 80 instructions, twice per particle of
     /// the 2D step).
