@@ -15,12 +15,13 @@
 //!
 //! Items: [`Basis2d`], [`Grid2d`].
 
-use crate::basis::Stencils;
+use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::Knots;
 use crate::mpm::grid::{Grid, Method};
 use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
+use crate::spline::KnotVector;
 use serde::Serialize;
 
 /// The basis of the 2D grid.
@@ -216,4 +217,56 @@ impl Grid2d {
     pub fn gauss_weight(&self) -> f64 {
         self.gauss_weight
     }
+}
+
+impl Grid2d {
+    /// MLS paper Eqs. (4)–(5) at every point of `xs`: the stencils of both
+    /// axes in one pass, x and y in paired lanes
+    /// ([`KnotVector::values_and_gradients_pair`]), bit for bit what
+    /// [`Grid::fill_stencils`] writes along each axis. `None` unless the
+    /// axis is a B-spline grid ([`Grid::plain_knot_vector`]) of width 2 to
+    /// 4; `Some(Err)` if a point lies outside the grid, and the caller
+    /// then takes the axis-by-axis path, which names it.
+    pub(crate) fn fill_stencils_paired(
+        &self,
+        xs: &[[f64; 2]],
+        stencils_x: &mut Stencils,
+        stencils_y: &mut Stencils,
+    ) -> Option<Result<()>> {
+        let kv = self.axis.plain_knot_vector()?;
+        with_width!(
+            self.stencil_width(),
+            fill_paired::<W>(kv, xs, stencils_x, stencils_y)
+        )
+    }
+}
+
+/// [`Grid2d::fill_stencils_paired`] for width `W` (0: `None`).
+#[inline(always)]
+fn fill_paired<const W: usize>(
+    kv: &KnotVector,
+    xs: &[[f64; 2]],
+    sx: &mut Stencils,
+    sy: &mut Stencils,
+) -> Option<Result<()>> {
+    if W == 0 {
+        return None;
+    }
+    sx.resize(xs.len());
+    sy.resize(xs.len());
+    let rows_x = sx.values.as_chunks_mut::<W>().0.iter_mut();
+    let rows_x = rows_x.zip(sx.gradients.as_chunks_mut::<W>().0.iter_mut());
+    let rows_y = sy.values.as_chunks_mut::<W>().0.iter_mut();
+    let rows_y = rows_y.zip(sy.gradients.as_chunks_mut::<W>().0.iter_mut());
+    let firsts = sx.first.iter_mut().zip(sy.first.iter_mut());
+    for ((x, (fx, fy)), ((vx, gx), (vy, gy))) in xs.iter().zip(firsts).zip(rows_x.zip(rows_y)) {
+        let (mut values, mut gradients) = ([[0.0; W]; 2], [[0.0; W]; 2]);
+        match kv.values_and_gradients_pair::<W>(*x, &mut values, &mut gradients) {
+            Ok(first) => [*fx, *fy] = first,
+            Err(e) => return Some(Err(e)),
+        }
+        [*vx, *vy] = values;
+        [*gx, *gy] = gradients;
+    }
+    Some(Ok(()))
 }

@@ -59,6 +59,10 @@ pub fn evaluate_basis(
     ws: &mut StepWorkspace2d,
     step: usize,
 ) -> Result<()> {
+    let (sx, sy) = (&mut ws.stencils_x, &mut ws.stencils_y);
+    if let Some(Ok(())) = grid.fill_stencils_paired(&p.x, sx, sy) {
+        return Ok(());
+    }
     let axis = grid.axis();
     for (c, stencils) in [(0, &mut ws.stencils_x), (1, &mut ws.stencils_y)] {
         if let Err(e) = axis.fill_stencils(&p.x, |x| x[c], stencils, &mut ws.scratch) {

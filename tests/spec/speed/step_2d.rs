@@ -4,12 +4,13 @@
 //! it without changing the particles; the neo-Hookean σ is formed entry by
 //! entry with the bits of its matrix expression; a step nobody observes
 //! fuses phase 3 with the end-of-step scatter and gets the bits of the
-//! two passes.
+//! two passes; the basis of both axes is evaluated in paired lanes with
+//! the bits of one axis at a time.
 
 use hompm::mpm::diagnostics::compensated_sum;
 use hompm::mpm2d::material::NeoHookean;
 use hompm::mpm2d::step::{
-    fuses_end_of_step, Conservation2d, Simulation2d, StepObserver2d, StepPoint2d,
+    evaluate_basis, fuses_end_of_step, Conservation2d, Simulation2d, StepObserver2d, StepPoint2d,
 };
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use hompm::Result;
@@ -202,5 +203,52 @@ fn the_fused_end_of_step_computes_the_bits_of_the_two_passes() {
         assert_eq!(fused.time, passes.time);
         let moved = fused.particles.displacement.iter().map(|u| u[0].abs());
         assert!(moved.fold(0.0, f64::max) > 1e-4);
+    }
+}
+
+/// `evaluate_basis` fills both axes' B-spline stencils in one pass, in
+/// paired lanes (`KnotVector::values_and_gradients_pair`): after 100 steps
+/// of BSMPM p = 2 and p = 3 (particles off their starting lattice), the
+/// stencils are bit for bit those of `Grid::stencils_at` along each axis,
+/// and a particle outside the square is still `ParticleLeftGrid`, naming it.
+#[test]
+fn the_paired_basis_is_the_basis_of_each_axis_bit_for_bit() {
+    let dt = parameters("mls-paper-e1e7").unwrap().dt;
+    for method in [AlignedMethod::bsmpm(2), AlignedMethod::bsmpm(3)] {
+        let mut sim = simulation(method, 8);
+        sim.run(dt, 100).unwrap();
+        evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0).unwrap();
+        for (c, paired) in [
+            (0, &sim.workspace.stencils_x),
+            (1, &sim.workspace.stencils_y),
+        ] {
+            let xs: Vec<f64> = sim.particles.x.iter().map(|x| x[c]).collect();
+            let one_axis = sim.grid.axis().stencils_at(&xs).unwrap();
+            assert_eq!(
+                format!("{:?}", paired.first),
+                format!("{:?}", one_axis.first)
+            );
+            assert_eq!(
+                format!("{:?}", paired.values),
+                format!("{:?}", one_axis.values)
+            );
+            assert_eq!(
+                format!("{:?}", paired.gradients),
+                format!("{:?}", one_axis.gradients)
+            );
+        }
+        sim.particles.x[5] = [0.5, 1.5];
+        let e = evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 7).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                hompm::Error::ParticleLeftGrid {
+                    particle: 5,
+                    step: 7,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
     }
 }
