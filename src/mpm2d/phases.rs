@@ -43,6 +43,7 @@ use crate::mpm::conventions::{Conventions, Positions, Transfer};
 mod fused;
 mod other_codes;
 mod reference;
+mod rows;
 pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
 use nalgebra::Matrix2;
 pub use other_codes::{
@@ -50,6 +51,7 @@ pub use other_codes::{
 };
 pub(super) use reference::evaluate_basis_at_reference;
 pub use reference::update_deformation_reference;
+use rows::particle_stencils;
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
 /// outside [0, L]² is `Error::ParticleLeftGrid`.
@@ -120,45 +122,12 @@ impl<'a> TensorStencil<'a> {
     }
 
     /// Calls `visit(i, N_i, ∇N_i)` for every node of the stencil, row by row
-    /// (b outer, a inner): the order, and so the rounding, of every sum
-    /// over the stencil.
+    /// (b outer, a inner, [`TensorStencil::for_each_row`]): the order, and
+    /// so the rounding, of every sum over the stencil.
     #[inline(always)]
     fn for_each(&self, mut visit: impl FnMut(usize, f64, [f64; 2])) {
-        let (vx, gx) = (self.values_x, self.gradients_x);
-        for (b, (&nb, &db)) in self.values_y.iter().zip(self.gradients_y).enumerate() {
-            let row = self.first + b * self.nodes_per_side;
-            for (a, (&na, &da)) in vx.iter().zip(gx).enumerate() {
-                visit(row + a, na * nb, [da * nb, na * db]);
-            }
-        }
+        self.for_each_row(|start, row| row.for_each(|a, nn, dn| visit(start + a, nn, dn)));
     }
-}
-
-/// The tensor stencils of every particle, in particle order, from the
-/// workspace's 1D stencils of width `w` (the compile-time `W` of the
-/// loops that call it, so that each row has a known length and no slice
-/// is checked per particle).
-#[inline(always)]
-fn particle_stencils<'a>(
-    sx: &'a Stencils,
-    sy: &'a Stencils,
-    w: usize,
-    n: usize,
-) -> impl Iterator<Item = TensorStencil<'a>> + 'a {
-    let along_x = sx.values.chunks_exact(w).zip(sx.gradients.chunks_exact(w));
-    let along_y = sy.values.chunks_exact(w).zip(sy.gradients.chunks_exact(w));
-    let firsts = sx.first.iter().zip(&sy.first);
-    along_x
-        .zip(along_y)
-        .zip(firsts)
-        .map(move |(((vx, gx), (vy, gy)), (&fx, &fy))| TensorStencil {
-            values_x: vx,
-            gradients_x: gx,
-            values_y: vy,
-            gradients_y: gy,
-            first: fy * n + fx,
-            nodes_per_side: n,
-        })
 }
 
 fn clear_nodes(ws: &mut StepWorkspace2d) {
@@ -222,12 +191,18 @@ fn map_direct_with<const W: usize>(
         let mv = [m * v[0], m * v[1]];
         let mb = [m * b[0], m * b[1]];
         let s = stress(k);
-        stencil.for_each(|i, nn, dn| {
-            ws.mass[i] += nn * m;
-            ws.momentum[i][0] += nn * mv[0];
-            ws.momentum[i][1] += nn * mv[1];
-            ws.force[i][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
-            ws.force[i][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+        // Row by row, each nodal array's row one slice (`for_each_row`).
+        stencil.for_each_row(|start, row| {
+            let mass = &mut ws.mass[start..][..row.len()];
+            let momentum = &mut ws.momentum[start..][..row.len()];
+            let force = &mut ws.force[start..][..row.len()];
+            row.for_each(|a, nn, dn| {
+                mass[a] += nn * m;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+                force[a][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+                force[a][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+            });
         });
     }
 }
@@ -546,12 +521,15 @@ pub(super) fn update_deformation_with<const W: usize>(
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
     for (k, stencil) in particle_stencils(sx, sy, w, n).enumerate().take(p.len()) {
         let mut l = [0.0; 4];
-        stencil.for_each(|i, _, dn| {
-            let v = ws.velocity_end[i];
-            l[0] += v[0] * dn[0];
-            l[1] += v[0] * dn[1];
-            l[2] += v[1] * dn[0];
-            l[3] += v[1] * dn[1];
+        stencil.for_each_row(|start, row| {
+            let velocity_end = &ws.velocity_end[start..][..row.len()];
+            row.for_each(|a, _, dn| {
+                let v = velocity_end[a];
+                l[0] += v[0] * dn[0];
+                l[1] += v[0] * dn[1];
+                l[2] += v[1] * dn[0];
+                l[3] += v[1] * dn[1];
+            });
         });
         let l = Matrix2::new(l[0], l[1], l[2], l[3]);
         set_deformation(p, k, rule(l, p.deformation[k]), material)?;

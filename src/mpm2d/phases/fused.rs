@@ -8,7 +8,8 @@
 //! (`StepObserver2d::OBSERVES`, issue #39) does it in one, while the
 //! stencil is at hand. The particles are visited in the same order and
 //! every number is formed from the same operands in the same order, so
-//! both ways give the same bits (tests/spec/speed/step_2d.rs).
+//! both ways give the same bits (tests/spec/speed/step_2d.rs). Each nodal
+//! array is read and written a stencil row at a time (`for_each_row`).
 //!
 //! Items: [`update_particles_and_end_momentum`], [`fuses_end_of_step`].
 
@@ -71,11 +72,15 @@ fn update_particles_and_end_momentum_with<const W: usize>(
     let stencils = particle_stencils(stencils_x, stencils_y, w, n);
     for (((((x, x0), u), v), &m), stencil) in particles.zip(stencils) {
         let (mut a, mut vn) = ([0.0; 2], [0.0; 2]);
-        stencil.for_each(|i, nn, _| {
-            a[0] += nn * acceleration[i][0];
-            a[1] += nn * acceleration[i][1];
-            vn[0] += nn * velocity_next[i][0];
-            vn[1] += nn * velocity_next[i][1];
+        stencil.for_each_row(|start, row| {
+            let acceleration = &acceleration[start..][..row.len()];
+            let velocity_next = &velocity_next[start..][..row.len()];
+            row.for_each(|j, nn, _| {
+                a[0] += nn * acceleration[j][0];
+                a[1] += nn * acceleration[j][1];
+                vn[0] += nn * velocity_next[j][0];
+                vn[1] += nn * velocity_next[j][1];
+            });
         });
         v[0] += dt * a[0];
         v[1] += dt * a[1];
@@ -83,9 +88,12 @@ fn update_particles_and_end_momentum_with<const W: usize>(
         x[1] += dt * vn[1];
         *u = [x[0] - x0[0], x[1] - x0[1]];
         let mv = [m * v[0], m * v[1]];
-        stencil.for_each(|i, nn, _| {
-            momentum_end[i][0] += nn * mv[0];
-            momentum_end[i][1] += nn * mv[1];
+        stencil.for_each_row(|start, row| {
+            let momentum_end = &mut momentum_end[start..][..row.len()];
+            row.for_each(|a, nn, _| {
+                momentum_end[a][0] += nn * mv[0];
+                momentum_end[a][1] += nn * mv[1];
+            });
         });
     }
 }
