@@ -514,6 +514,16 @@ impl Grid {
         }
     }
 
+    /// The Lagrange basis of a grid without DDMPM's dual domain, whose
+    /// stencils [`Grid::fill_stencils`] fills by
+    /// [`LagrangeBasis::evaluate_fixed`]; `None` for any other grid.
+    pub(crate) fn plain_lagrange(&self) -> Option<&LagrangeBasis> {
+        match (&self.basis, &self.dual) {
+            (GridBasis::Lagrange(l), None) => Some(l),
+            _ => None,
+        }
+    }
+
     /// The basis at every point of `xs`, in freshly allocated stencils.
     pub fn stencils_at(&self, xs: &[f64]) -> Result<Stencils> {
         let mut s = self.stencils(xs.len());

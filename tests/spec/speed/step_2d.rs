@@ -206,15 +206,20 @@ fn the_fused_end_of_step_computes_the_bits_of_the_two_passes() {
     }
 }
 
-/// `evaluate_basis` fills both axes' B-spline stencils in one pass, in
+/// `evaluate_basis` fills both axes' stencils in one pass, B-splines in
 /// paired lanes (`KnotVector::values_and_gradients_pair`): after 100 steps
-/// of BSMPM p = 2 and p = 3 (particles off their starting lattice), the
+/// of BSMPM p = 2, p = 3 and bilinear MPM (particles off their starting
+/// lattice), the
 /// stencils are bit for bit those of `Grid::stencils_at` along each axis,
 /// and a particle outside the square is still `ParticleLeftGrid`, naming it.
 #[test]
-fn the_paired_basis_is_the_basis_of_each_axis_bit_for_bit() {
+fn the_basis_of_both_axes_in_one_pass_is_that_of_each_axis_bit_for_bit() {
     let dt = parameters("mls-paper-e1e7").unwrap().dt;
-    for method in [AlignedMethod::bsmpm(2), AlignedMethod::bsmpm(3)] {
+    for method in [
+        AlignedMethod::bsmpm(2),
+        AlignedMethod::bsmpm(3),
+        AlignedMethod::Mpm,
+    ] {
         let mut sim = simulation(method, 8);
         sim.run(dt, 100).unwrap();
         evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0).unwrap();
