@@ -148,7 +148,8 @@ pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut StepWorkspace2d) {
     );
 }
 
-/// [`map_direct`] of the total-Lagrangian reference ([`Formulation`]): the
+/// [`map_direct`] of the total-Lagrangian reference
+/// ([`Formulation`](super::step::Formulation)): the
 /// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
 /// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ. A particle with det F ≤ 0, which has no such
 /// P, is `Error::InvertedDeformation`.
