@@ -5,7 +5,8 @@
 //! (2 304 and 36 864 particles), the same numbers bit for bit
 //! (tests/spec/speed/lean_2d.rs). divan's throughput ("item/s") is
 //! particle-steps per second; ns per particle-step = 1e9 / throughput, and
-//! hompm/lean is the ratio.
+//! hompm/lean is the ratio; the `_bare` benches time hompm's step
+//! with its monitors off (`Simulation2d::without_diagnostics`).
 //!
 //! Run with `cargo bench --bench lean_mpm2d`. One thread. On a loaded
 //! machine count instructions instead (examples/mpm2d_step_cost.rs).
@@ -49,10 +50,22 @@ fn steps(cells: usize) -> usize {
 }
 
 fn hompm_step(bencher: divan::Bencher, method: AlignedMethod, cells: usize) {
+    hompm_step_of(bencher, cells, move || simulation(method, cells));
+}
+
+/// hompm's step with its monitors off (`Simulation2d::without_diagnostics`),
+/// as the lean step has none.
+fn hompm_step_bare(bencher: divan::Bencher, method: AlignedMethod, cells: usize) {
+    hompm_step_of(bencher, cells, move || {
+        simulation(method, cells).without_diagnostics()
+    });
+}
+
+fn hompm_step_of(bencher: divan::Bencher, cells: usize, make: impl Fn() -> Simulation2d) {
     let (n, dt) = (steps(cells), scene().dt);
     bencher
         .counter(ItemsCount::new(particles(cells) * n))
-        .with_inputs(|| simulation(method, cells))
+        .with_inputs(make)
         .bench_local_values(|mut sim| {
             sim.run(dt, n).expect("stable");
             sim
@@ -67,6 +80,16 @@ fn hompm_step_bsmpm(bencher: divan::Bencher, cells: usize) {
 #[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]
 fn hompm_step_bilinear(bencher: divan::Bencher, cells: usize) {
     hompm_step(bencher, AlignedMethod::Mpm, cells);
+}
+
+#[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]
+fn hompm_step_bsmpm_bare(bencher: divan::Bencher, cells: usize) {
+    hompm_step_bare(bencher, AlignedMethod::bsmpm(2), cells);
+}
+
+#[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]
+fn hompm_step_bilinear_bare(bencher: divan::Bencher, cells: usize) {
+    hompm_step_bare(bencher, AlignedMethod::Mpm, cells);
 }
 
 #[divan::bench(args = CELLS, sample_count = 10, sample_size = 1)]

@@ -6,7 +6,10 @@
 //!
 //! `cargo run --release --example mpm2d_step_cost -- VARIANT CELLS STEPS`
 //! with VARIANT one of `hompm-bsmpm`, `lean-bsmpm` (quadratic B-splines,
-//! benches/lean/mpm2d.rs), `hompm-bilinear` and `lean-bilinear`. The
+//! benches/lean/mpm2d.rs), `hompm-bilinear` and `lean-bilinear`, and
+//! `hompm-bsmpm-bare` and `hompm-bilinear-bare`, hompm's step with its
+//! monitors off (`Simulation2d::without_diagnostics`), as the lean step
+//! has none. The
 //! aligned vibration of the MLS paper (`mls-paper-e1e7`), 9 particles per
 //! cell, Δt = 1e-5 s, the manufactured body force included; one step is
 //! taken before the counted ones, as in the bench.
@@ -21,14 +24,14 @@ use mpm2d::{LeanBilinear2d, LeanBsmpm2d};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let usage =
-        "usage: mpm2d_step_cost hompm-bsmpm|lean-bsmpm|hompm-bilinear|lean-bilinear|hompm-mls|hompm-tls|hompm-pu-tls CELLS STEPS";
+        "usage: mpm2d_step_cost hompm-bsmpm[-bare]|lean-bsmpm|hompm-bilinear[-bare]|lean-bilinear|hompm-mls|hompm-tls|hompm-pu-tls CELLS STEPS";
     let (variant, cells, steps) = match args.as_slice() {
         [_, v, c, s] => (v.as_str(), c.parse::<usize>()?, s.parse::<usize>()?),
         _ => return Err(usage.into()),
     };
     let method = match variant {
-        "hompm-bsmpm" | "lean-bsmpm" => AlignedMethod::bsmpm(2),
-        "hompm-bilinear" | "lean-bilinear" => AlignedMethod::Mpm,
+        "hompm-bsmpm" | "hompm-bsmpm-bare" | "lean-bsmpm" => AlignedMethod::bsmpm(2),
+        "hompm-bilinear" | "hompm-bilinear-bare" | "lean-bilinear" => AlignedMethod::Mpm,
         "hompm-mls" => AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
         "hompm-tls" => AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
         "hompm-pu-tls" => AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
@@ -38,6 +41,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dt = scene.dt;
     let mut sim = scene.simulation(method, cells, 3, 1.0)?;
     sim.step(dt)?;
+    if variant.ends_with("-bare") {
+        sim = sim.without_diagnostics();
+    }
     let x = match variant {
         "lean-bsmpm" => {
             let mut lean = LeanBsmpm2d::<3>::from_simulation(&sim, &scene);

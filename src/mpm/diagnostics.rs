@@ -10,7 +10,8 @@
 //!   (thesis §3.3, §6.2);
 //! - maximal strain, lumped-mass sign, and energy.
 //!
-//! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`], [`RunDiagnostics`].
+//! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`],
+//! [`CompensatedSum`], [`RunDiagnostics`].
 
 use super::mapping::Projection;
 use crate::error::{Error, Result};
@@ -46,6 +47,35 @@ pub fn compensated_sum(values: impl IntoIterator<Item = f64>) -> f64 {
         sum = t;
     }
     sum + correction
+}
+
+/// [`compensated_sum`] one term at a time, so that one pass over the
+/// particles can keep several sums: the same steps in the same order, so
+/// the same bits as [`compensated_sum`] of the same terms.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CompensatedSum {
+    sum: f64,
+    correction: f64,
+}
+
+impl CompensatedSum {
+    /// Adds v (one step of Neumaier's summation).
+    #[inline(always)]
+    pub fn add(&mut self, v: f64) {
+        let t = self.sum + v;
+        self.correction += if self.sum.abs() >= v.abs() {
+            (self.sum - t) + v
+        } else {
+            (v - t) + self.sum
+        };
+        self.sum = t;
+    }
+
+    /// The sum of the terms added so far.
+    #[inline(always)]
+    pub fn total(self) -> f64 {
+        self.sum + self.correction
+    }
 }
 
 /// Relative L2 error ‖c − r‖₂ / ‖r‖₂.

@@ -502,6 +502,28 @@ impl Grid {
         Ok(())
     }
 
+    /// The knot vector of a B-spline grid without DDMPM's dual domain, whose
+    /// stencils [`Grid::fill_stencils`] fills by
+    /// [`KnotVector::values_and_gradients_fixed`]; `None` for any other grid.
+    /// The 2D step evaluates its two axes with it in paired lanes
+    /// (`Grid2d::fill_stencils_paired`).
+    pub(crate) fn plain_knot_vector(&self) -> Option<&KnotVector> {
+        match (&self.basis, &self.dual) {
+            (GridBasis::BSpline(kv), None) => Some(kv),
+            _ => None,
+        }
+    }
+
+    /// The Lagrange basis of a grid without DDMPM's dual domain, whose
+    /// stencils [`Grid::fill_stencils`] fills by
+    /// [`LagrangeBasis::evaluate_fixed`]; `None` for any other grid.
+    pub(crate) fn plain_lagrange(&self) -> Option<&LagrangeBasis> {
+        match (&self.basis, &self.dual) {
+            (GridBasis::Lagrange(l), None) => Some(l),
+            _ => None,
+        }
+    }
+
     /// The basis at every point of `xs`, in freshly allocated stencils.
     pub fn stencils_at(&self, xs: &[f64]) -> Result<Stencils> {
         let mut s = self.stencils(xs.len());

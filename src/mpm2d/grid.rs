@@ -15,12 +15,14 @@
 //!
 //! Items: [`Basis2d`], [`Grid2d`].
 
-use crate::basis::Stencils;
+use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
+use crate::lagrange::LagrangeBasis;
 use crate::mpm::conventions::Knots;
 use crate::mpm::grid::{Grid, Method};
 use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
+use crate::spline::KnotVector;
 use serde::Serialize;
 
 /// The basis of the 2D grid.
@@ -216,4 +218,95 @@ impl Grid2d {
     pub fn gauss_weight(&self) -> f64 {
         self.gauss_weight
     }
+}
+
+impl Grid2d {
+    /// MLS paper Eqs. (4)–(5) at every point of `xs`: the stencils of both
+    /// axes in one pass, x and y in paired lanes
+    /// ([`KnotVector::values_and_gradients_pair`]), bit for bit what
+    /// [`Grid::fill_stencils`] writes along each axis; a Lagrange axis (P1,
+    /// bilinear MPM) evaluates x then y in the same pass
+    /// ([`LagrangeBasis::evaluate_fixed`]).
+    /// `None` unless the axis is a B-spline grid ([`Grid::plain_knot_vector`])
+    /// or a Lagrange grid of width 2 to 4; `Some(Err)` if a point lies
+    /// outside the grid, and the caller then takes the axis-by-axis path,
+    /// which names it.
+    pub(crate) fn fill_stencils_paired(
+        &self,
+        xs: &[[f64; 2]],
+        stencils_x: &mut Stencils,
+        stencils_y: &mut Stencils,
+    ) -> Option<Result<()>> {
+        if let Some(lagrange) = self.axis.plain_lagrange() {
+            return with_width!(
+                self.stencil_width(),
+                fill_lagrange::<W>(lagrange, xs, stencils_x, stencils_y)
+            );
+        }
+        let kv = self.axis.plain_knot_vector()?;
+        with_width!(
+            self.stencil_width(),
+            fill_bspline::<W>(kv, xs, stencils_x, stencils_y)
+        )
+    }
+}
+
+/// B-splines: both axes in paired lanes.
+#[inline(always)]
+fn fill_bspline<const W: usize>(
+    kv: &KnotVector,
+    xs: &[[f64; 2]],
+    sx: &mut Stencils,
+    sy: &mut Stencils,
+) -> Option<Result<()>> {
+    fill_both::<W>(xs, sx, sy, |x, v, g| {
+        Some(kv.values_and_gradients_pair::<W>(x, v, g))
+    })
+}
+
+/// Lagrange (P1, bilinear MPM; P2): x then y, in the same pass.
+#[inline(always)]
+fn fill_lagrange<const W: usize>(
+    lagrange: &LagrangeBasis,
+    xs: &[[f64; 2]],
+    sx: &mut Stencils,
+    sy: &mut Stencils,
+) -> Option<Result<()>> {
+    fill_both::<W>(xs, sx, sy, |x, v, g| {
+        let x_axis = lagrange.evaluate_fixed::<W>(x[0], &mut v[0], &mut g[0])?;
+        let y_axis = lagrange.evaluate_fixed::<W>(x[1], &mut v[1], &mut g[1])?;
+        Some(x_axis.and_then(|fx| y_axis.map(|fy| [fx, fy])))
+    })
+}
+
+/// [`Grid2d::fill_stencils_paired`] for width `W` (0: `None`), with
+/// `evaluate(x, values, gradients)` the basis of both axes at one point,
+/// their first functions (`None`: this width has no fixed evaluation).
+#[inline(always)]
+fn fill_both<const W: usize>(
+    xs: &[[f64; 2]],
+    sx: &mut Stencils,
+    sy: &mut Stencils,
+    evaluate: impl Fn([f64; 2], &mut [[f64; W]; 2], &mut [[f64; W]; 2]) -> Option<Result<[usize; 2]>>,
+) -> Option<Result<()>> {
+    if W == 0 {
+        return None;
+    }
+    sx.resize(xs.len());
+    sy.resize(xs.len());
+    let rows_x = sx.values.as_chunks_mut::<W>().0.iter_mut();
+    let rows_x = rows_x.zip(sx.gradients.as_chunks_mut::<W>().0.iter_mut());
+    let rows_y = sy.values.as_chunks_mut::<W>().0.iter_mut();
+    let rows_y = rows_y.zip(sy.gradients.as_chunks_mut::<W>().0.iter_mut());
+    let firsts = sx.first.iter_mut().zip(sy.first.iter_mut());
+    for ((x, (fx, fy)), ((vx, gx), (vy, gy))) in xs.iter().zip(firsts).zip(rows_x.zip(rows_y)) {
+        let (mut values, mut gradients) = ([[0.0; W]; 2], [[0.0; W]; 2]);
+        match evaluate(*x, &mut values, &mut gradients)? {
+            Ok(first) => [*fx, *fy] = first,
+            Err(e) => return Some(Err(e)),
+        }
+        [*vx, *vy] = values;
+        [*gx, *gy] = gradients;
+    }
+    Some(Ok(()))
 }

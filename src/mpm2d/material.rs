@@ -42,19 +42,28 @@ impl NeoHookean {
     }
 
     /// J = det F, refused unless positive and finite
-    /// ([`Error::InvertedDeformation`], with no particle or step).
+    /// ([`Error::InvertedDeformation`], with no particle or step). Inlined
+    /// into the step's particle loops, with the error built out of line.
+    #[inline(always)]
     pub fn jacobian(f: &Matrix2<f64>) -> Result<f64> {
         let j = f.determinant();
         if j.is_finite() && j > 0.0 {
             Ok(j)
         } else {
-            Err(Error::InvertedDeformation {
-                particle: None,
-                step: None,
-                time: None,
-                jacobian: j,
-                deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
-            })
+            Err(Self::inverted(f, j))
+        }
+    }
+
+    /// The error of [`NeoHookean::jacobian`] for det F = j.
+    #[cold]
+    #[inline(never)]
+    fn inverted(f: &Matrix2<f64>, j: f64) -> Error {
+        Error::InvertedDeformation {
+            particle: None,
+            step: None,
+            time: None,
+            jacobian: j,
+            deformation: [f[(0, 0)], f[(0, 1)], f[(1, 0)], f[(1, 1)]],
         }
     }
 
@@ -67,9 +76,22 @@ impl NeoHookean {
     /// [`NeoHookean::cauchy_stress`] for a J = det F > 0 the caller has
     /// already checked with [`NeoHookean::jacobian`] (the step does, once
     /// per particle).
+    ///
+    /// Entry by entry, with the operands and order of the matrix form
+    /// (λ ln J / J) I + (B − I)(μ / J), B = F Fᵀ, as nalgebra evaluates it
+    /// (an entry of a 2×2 product is A_{i0} B_{0j} + A_{i1} B_{1j}; the off
+    /// diagonal keeps its 0·(λ ln J / J) and B_{01} − 0, which can turn a
+    /// −0 into +0): the same bits, with B_{01} = F₀₀F₁₀ + F₀₁F₁₁ formed once,
+    /// since B_{10} = F₁₀F₀₀ + F₁₁F₀₁ is the same two products in the same
+    /// order, so σ is symmetric bit for bit.
+    #[inline(always)]
     pub fn cauchy_stress_given_jacobian(&self, f: &Matrix2<f64>, j: f64) -> Matrix2<f64> {
-        let b = f * f.transpose();
-        Matrix2::identity() * (self.lambda * j.ln() / j) + (b - Matrix2::identity()) * (self.mu / j)
+        let (c, d) = (self.lambda * j.ln() / j, self.mu / j);
+        let b00 = f[(0, 0)] * f[(0, 0)] + f[(0, 1)] * f[(0, 1)];
+        let b01 = f[(0, 0)] * f[(1, 0)] + f[(0, 1)] * f[(1, 1)];
+        let b11 = f[(1, 0)] * f[(1, 0)] + f[(1, 1)] * f[(1, 1)];
+        let off = 0.0 * c + (b01 - 0.0) * d;
+        Matrix2::new(c + (b00 - 1.0) * d, off, off, c + (b11 - 1.0) * d)
     }
 
     /// First Piola–Kirchhoff stress P = μ (F − F⁻ᵀ) + λ ln(J) F⁻ᵀ = J σ F⁻ᵀ

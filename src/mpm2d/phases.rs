@@ -24,25 +24,34 @@
 //!
 //! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
 //! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
-//! [`end_of_step_velocity`], [`update_deformation`],
-//! [`update_deformation_reference`].
+//! [`end_of_step_velocity`], [`end_of_step_velocity_from_momentum`],
+//! [`update_deformation`] (and, from submodules, the fused
+//! `update_particles_and_end_momentum`,
+//! the total-Lagrangian `update_deformation_reference` and other codes'
+//! phases).
 
 use super::grid::Grid2d;
 use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
 use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
-use super::workspace::{Conservation2d, StepWorkspace2d};
+use super::workspace::StepWorkspace2d;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
-use crate::mpm::diagnostics::compensated_sum;
 
+mod fused;
 mod other_codes;
+mod reference;
+mod rows;
+pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
 };
+pub(super) use reference::evaluate_basis_at_reference;
+pub use reference::update_deformation_reference;
+use rows::particle_stencils;
 
 /// MLS paper Eqs. (4)–(5) at every particle: the two 1D stencils. A particle
 /// outside [0, L]² is `Error::ParticleLeftGrid`.
@@ -52,6 +61,10 @@ pub fn evaluate_basis(
     ws: &mut StepWorkspace2d,
     step: usize,
 ) -> Result<()> {
+    let (sx, sy) = (&mut ws.stencils_x, &mut ws.stencils_y);
+    if let Some(Ok(())) = grid.fill_stencils_paired(&p.x, sx, sy) {
+        return Ok(());
+    }
     let axis = grid.axis();
     for (c, stencils) in [(0, &mut ws.stencils_x), (1, &mut ws.stencils_y)] {
         if let Err(e) = axis.fill_stencils(&p.x, |x| x[c], stencils, &mut ws.scratch) {
@@ -72,18 +85,6 @@ pub fn evaluate_basis(
         }
     }
     Ok(())
-}
-
-/// The stencils at the initial positions X_p, once, for the
-/// total-Lagrangian reference ([`Formulation::TotalLagrangian`]).
-pub(super) fn evaluate_basis_at_reference(
-    grid: &Grid2d,
-    p: &Particles2d,
-    ws: &mut StepWorkspace2d,
-) -> Result<()> {
-    let axis = grid.axis();
-    axis.fill_stencils(&p.x0, |x| x[0], &mut ws.stencils_x, &mut ws.scratch)?;
-    axis.fill_stencils(&p.x0, |x| x[1], &mut ws.stencils_y, &mut ws.scratch)
 }
 
 /// The tensor-product stencil of one point, MLS paper Eqs. (4)–(5): from
@@ -121,17 +122,11 @@ impl<'a> TensorStencil<'a> {
     }
 
     /// Calls `visit(i, N_i, ∇N_i)` for every node of the stencil, row by row
-    /// (b outer, a inner): the order, and so the rounding, of every sum
-    /// over the stencil.
+    /// (b outer, a inner, [`TensorStencil::for_each_row`]): the order, and
+    /// so the rounding, of every sum over the stencil.
     #[inline(always)]
     fn for_each(&self, mut visit: impl FnMut(usize, f64, [f64; 2])) {
-        let (vx, gx) = (self.values_x, self.gradients_x);
-        for (b, (&nb, &db)) in self.values_y.iter().zip(self.gradients_y).enumerate() {
-            let row = self.first + b * self.nodes_per_side;
-            for (a, (&na, &da)) in vx.iter().zip(gx).enumerate() {
-                visit(row + a, na * nb, [da * nb, na * db]);
-            }
-        }
+        self.for_each_row(|start, row| row.for_each(|a, nn, dn| visit(start + a, nn, dn)));
     }
 }
 
@@ -153,7 +148,8 @@ pub fn map_direct(grid: &Grid2d, p: &Particles2d, ws: &mut StepWorkspace2d) {
     );
 }
 
-/// [`map_direct`] of the total-Lagrangian reference ([`Formulation`]): the
+/// [`map_direct`] of the total-Lagrangian reference
+/// ([`Formulation`](super::step::Formulation)): the
 /// stencils hold N_i(X_p) and ∇_X N_i(X_p), and the stress term is
 /// V_p⁰ P_p = V_p σ_p F_p⁻ᵀ. A particle with det F ≤ 0, which has no such
 /// P, is `Error::InvertedDeformation`.
@@ -191,17 +187,23 @@ fn map_direct_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
-        let m = p.mass[k];
-        let mv = [m * p.velocity[k][0], m * p.velocity[k][1]];
-        let mb = [m * ws.body_force[k][0], m * ws.body_force[k][1]];
+    let particles = p.mass.iter().zip(&p.velocity).zip(&ws.body_force);
+    for (k, (((&m, v), b), stencil)) in particles.zip(particle_stencils(sx, sy, w, n)).enumerate() {
+        let mv = [m * v[0], m * v[1]];
+        let mb = [m * b[0], m * b[1]];
         let s = stress(k);
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, dn| {
-            ws.mass[i] += nn * m;
-            ws.momentum[i][0] += nn * mv[0];
-            ws.momentum[i][1] += nn * mv[1];
-            ws.force[i][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
-            ws.force[i][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+        // Row by row, each nodal array's row one slice (`for_each_row`).
+        stencil.for_each_row(|start, row| {
+            let mass = &mut ws.mass[start..][..row.len()];
+            let momentum = &mut ws.momentum[start..][..row.len()];
+            let force = &mut ws.force[start..][..row.len()];
+            row.for_each(|a, nn, dn| {
+                mass[a] += nn * m;
+                momentum[a][0] += nn * mv[0];
+                momentum[a][1] += nn * mv[1];
+                force[a][0] += nn * mb[0] - (s[(0, 0)] * dn[0] + s[(0, 1)] * dn[1]);
+                force[a][1] += nn * mb[1] - (s[(1, 0)] * dn[0] + s[(1, 1)] * dn[1]);
+            });
         });
     }
 }
@@ -291,30 +293,6 @@ fn scatter_gauss_point(
     });
 }
 
-pub(super) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
-    // Compensated sums on both sides, so that the monitor measures the
-    // mapping's rounding and not that of its own sums.
-    let particle_mass = compensated_sum(p.mass.iter().copied());
-    let grid_mass = compensated_sum(ws.mass.iter().copied());
-    let scale = compensated_sum(
-        p.mass
-            .iter()
-            .zip(&p.velocity)
-            .map(|(m, v)| m * (v[0] * v[0] + v[1] * v[1]).sqrt()),
-    );
-    let component = |d: usize| {
-        let particles = compensated_sum(p.mass.iter().zip(&p.velocity).map(|(m, v)| m * v[d]));
-        let grid = compensated_sum(ws.momentum.iter().map(|m| m[d]));
-        grid - particles
-    };
-    c.mass = c
-        .mass
-        .max((grid_mass - particle_mass).abs() / particle_mass);
-    if scale > 0.0 {
-        c.momentum = c.momentum.max(component(0).hypot(component(1)) / scale);
-    }
-}
-
 /// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components
 /// of the first and last column of nodes and the y components of the first
 /// and last row vanish. With open knot vectors (and P1) those are the only
@@ -397,9 +375,9 @@ fn update_particles_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
+    for (k, stencil) in particle_stencils(sx, sy, w, n).enumerate().take(p.len()) {
         let (mut a, mut v) = ([0.0; 2], [0.0; 2]);
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+        stencil.for_each(|i, nn, _| {
             a[0] += nn * ws.acceleration[i][0];
             a[1] += nn * ws.acceleration[i][1];
             v[0] += nn * ws.velocity_next[i][0];
@@ -456,6 +434,13 @@ pub fn end_of_step_velocity(
             map_particle_momentum_with::<W>(grid, p, ws)
         ),
     }
+    end_of_step_velocity_from_momentum(grid, ws);
+}
+
+/// Eqs. (32)–(33) from (mv)^L in `momentum_end`: v_i^L = (mv)_i^L / m_i into
+/// `velocity_end`, with the walls' conditions.
+pub fn end_of_step_velocity_from_momentum(grid: &Grid2d, ws: &mut StepWorkspace2d) {
+    let n = grid.nodes_per_side();
     for i in 0..ws.mass.len() {
         let m = ws.mass[i];
         ws.velocity_end[i] = if m > 0.0 {
@@ -478,9 +463,10 @@ fn map_particle_momentum_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
-        let mv = [p.mass[k] * p.velocity[k][0], p.mass[k] * p.velocity[k][1]];
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, nn, _| {
+    let particles = p.mass.iter().zip(&p.velocity);
+    for ((&m, v), stencil) in particles.zip(particle_stencils(sx, sy, w, n)) {
+        let mv = [m * v[0], m * v[1]];
+        stencil.for_each(|i, nn, _| {
             ws.momentum_end[i][0] += nn * mv[0];
             ws.momentum_end[i][1] += nn * mv[1];
         });
@@ -522,25 +508,9 @@ pub fn update_deformation(
     )
 }
 
-/// [`update_deformation`] of the total-Lagrangian reference: Ḟ = ∇_X v, so
-/// F_p ← F_p + Δt Σ_i v_i^L ⊗ ∇_X N_i(X_p).
-pub fn update_deformation_reference(
-    grid: &Grid2d,
-    p: &mut Particles2d,
-    ws: &StepWorkspace2d,
-    material: &NeoHookean,
-    dt: f64,
-) -> Result<()> {
-    let rule = |l: Matrix2<f64>, f: Matrix2<f64>| f + l * dt;
-    with_width!(
-        grid.stencil_width(),
-        update_deformation_with::<W>(grid, p, ws, material, rule)
-    )
-}
-
 /// [`update_deformation`] for stencil width `W` (0: any width); `rule(L, F)`
 /// is the new F from the interpolated gradient L = Σ_i v_i ⊗ ∇N_i.
-fn update_deformation_with<const W: usize>(
+pub(super) fn update_deformation_with<const W: usize>(
     grid: &Grid2d,
     p: &mut Particles2d,
     ws: &StepWorkspace2d,
@@ -550,14 +520,17 @@ fn update_deformation_with<const W: usize>(
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
     let (sx, sy) = (&ws.stencils_x, &ws.stencils_y);
-    for k in 0..p.len() {
+    for (k, stencil) in particle_stencils(sx, sy, w, n).enumerate().take(p.len()) {
         let mut l = [0.0; 4];
-        TensorStencil::of(sx, k, sy, k, w, n).for_each(|i, _, dn| {
-            let v = ws.velocity_end[i];
-            l[0] += v[0] * dn[0];
-            l[1] += v[0] * dn[1];
-            l[2] += v[1] * dn[0];
-            l[3] += v[1] * dn[1];
+        stencil.for_each_row(|start, row| {
+            let velocity_end = &ws.velocity_end[start..][..row.len()];
+            row.for_each(|a, _, dn| {
+                let v = velocity_end[a];
+                l[0] += v[0] * dn[0];
+                l[1] += v[0] * dn[1];
+                l[2] += v[1] * dn[0];
+                l[3] += v[1] * dn[1];
+            });
         });
         let l = Matrix2::new(l[0], l[1], l[2], l[3]);
         set_deformation(p, k, rule(l, p.deformation[k]), material)?;

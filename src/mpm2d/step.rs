@@ -30,7 +30,11 @@
 //! [`Simulation2d::step_observed`] calls a [`StepObserver2d`] after each
 //! phase ([`StepPoint2d`]) with the simulation as the phase left it; the
 //! trace of `hompm trace aligned-vibration` is recorded so, from the step
-//! that runs. [`Simulation2d::step`] passes [`NoObserver2d`].
+//! that runs. [`Simulation2d::step`] passes [`NoObserver2d`], which does not
+//! observe (`StepObserver2d::OBSERVES`): such a step runs phases 3 and the
+//! end-of-step scatter (Eqs. 29–31) in one particle loop,
+//! [`update_particles_and_end_momentum`], where the conventions allow
+//! ([`fuses_end_of_step`]), the same bits as the two passes.
 //!
 //! A step allocates nothing: the stencils, nodal arrays and MLS lists live
 //! in a [`StepWorkspace2d`] made once (the MLS lists grow only if a Gauss point
@@ -48,7 +52,8 @@
 use super::grid::{Basis2d, Grid2d};
 use super::material::NeoHookean;
 use super::particles::Particles2d;
-use super::phases::{evaluate_basis_at_reference, record_conservation};
+use super::phases::evaluate_basis_at_reference;
+use super::workspace::record_conservation;
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{BodyForceAt, Conventions, Gradient, Positions, Scheme, Transfer};
 use crate::spline::bspline::SpanScratch;
@@ -56,9 +61,10 @@ use serde::{Deserialize, Serialize};
 
 pub use super::mapping::{Mapping2d, MappingInfo};
 pub use super::phases::{
-    end_of_step_velocity, evaluate_basis, map_direct, map_direct_apic, map_direct_reference,
-    map_reconstructed, move_particles, nodal_update, update_deformation, update_deformation_affine,
-    update_deformation_reference, update_particles, update_particles_apic,
+    end_of_step_velocity, end_of_step_velocity_from_momentum, evaluate_basis, fuses_end_of_step,
+    map_direct, map_direct_apic, map_direct_reference, map_reconstructed, move_particles,
+    nodal_update, update_deformation, update_deformation_affine, update_deformation_reference,
+    update_particles, update_particles_and_end_momentum, update_particles_apic,
 };
 pub use super::workspace::{Conservation2d, StepWorkspace2d};
 
@@ -82,6 +88,12 @@ pub enum StepPoint2d {
 
 /// Called by [`Simulation2d::step_observed`] after each phase.
 pub trait StepObserver2d {
+    /// Whether the observer looks: a step nobody observes runs phase 3 and
+    /// the end-of-step scatter in one particle loop where it can
+    /// (`update_particles_and_end_momentum`), the same numbers without the
+    /// [`StepPoint2d::ParticleUpdate`] between them.
+    const OBSERVES: bool = true;
+
     /// The step has just passed `point`; `sim.steps` steps were completed
     /// before this one.
     fn observe(&mut self, point: StepPoint2d, sim: &mut Simulation2d) -> Result<()>;
@@ -92,6 +104,8 @@ pub trait StepObserver2d {
 pub struct NoObserver2d;
 
 impl StepObserver2d for NoObserver2d {
+    const OBSERVES: bool = false;
+
     #[inline(always)]
     fn observe(&mut self, _: StepPoint2d, _: &mut Simulation2d) -> Result<()> {
         Ok(())
@@ -160,6 +174,9 @@ pub struct Simulation2d {
     /// What the reconstruction (if any) met so far: the largest condition
     /// number of its small systems and the most cells repaired in one step.
     pub reconstruction_record: ReconstructionRecord,
+    /// Whether the steps record `conservation` and `reconstruction_record`
+    /// (off with [`Simulation2d::without_diagnostics`]).
+    records_diagnostics: bool,
 }
 
 /// The largest κ and the most repaired cells of a run's reconstructions
@@ -248,12 +265,31 @@ impl Simulation2d {
             steps: 0,
             conservation: Conservation2d::default(),
             reconstruction_record: ReconstructionRecord::default(),
+            records_diagnostics: true,
         };
         evaluate_basis(&sim.grid, &sim.particles, &mut sim.workspace, 0)?;
         if settings.formulation == Formulation::TotalLagrangian {
             evaluate_basis_at_reference(&sim.grid, &sim.particles, &mut sim.workspace)?;
         }
         Ok(sim)
+    }
+
+    /// The same simulation with its run monitors off: the steps skip the
+    /// mapping errors ([`Simulation2d::conservation`], four compensated sums
+    /// over the particles per step) and the reconstruction's record, which
+    /// keep their initial values. The particles and the grid evolve bit for
+    /// bit as with them on. For timing what the monitors cost, as the 1D
+    /// `Simulation::without_diagnostics` (examples/mpm2d_step_cost.rs,
+    /// issue #39).
+    pub fn without_diagnostics(mut self) -> Self {
+        self.records_diagnostics = false;
+        self
+    }
+
+    /// Whether the steps record the mapping errors and the reconstruction's
+    /// record ([`Simulation2d::without_diagnostics`]).
+    pub fn records_diagnostics(&self) -> bool {
+        self.records_diagnostics
     }
 
     /// One step of length Δt > 0, MLS paper Eqs. (18)–(37).
@@ -295,8 +331,10 @@ impl Simulation2d {
             if at_nodes && self.body_force.is_some() {
                 add_nodal_body_force(ws);
             }
-            record_conservation(p, ws, &mut self.conservation);
-            if let Some(shapes) = &ws.reconstruction {
+            if self.records_diagnostics {
+                record_conservation(p, ws, &mut self.conservation);
+            }
+            if let (Some(shapes), true) = (&ws.reconstruction, self.records_diagnostics) {
                 let r = &mut self.reconstruction_record;
                 r.largest_condition = r.largest_condition.max(shapes.largest_condition());
                 r.most_repaired = r.most_repaired.max(shapes.repaired());
@@ -305,22 +343,30 @@ impl Simulation2d {
         observer.observe(StepPoint2d::GridMapping, self)?;
         nodal_update(&self.grid, &mut self.workspace, dt);
         observer.observe(StepPoint2d::NodalUpdate, self)?;
-        let conventions = self.settings.conventions;
-        let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
-        if conventions.transfer == Transfer::Apic {
-            update_particles_apic(grid, p, ws, dt);
+        let (conventions, mapping) = (self.settings.conventions, self.settings.mapping);
+        if !O::OBSERVES && fuses_end_of_step(conventions, mapping) {
+            // Eqs. (29)–(31) in one particle loop, then (32)–(33).
+            let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
+            update_particles_and_end_momentum(grid, p, ws, dt);
+            end_of_step_velocity_from_momentum(grid, ws);
         } else {
-            update_particles(grid, p, ws, conventions, dt);
-        }
-        observer.observe(StepPoint2d::ParticleUpdate, self)?;
-        let mapping = self.settings.mapping;
-        match conventions.scheme {
-            Scheme::Usl => {
-                let ws = &mut self.workspace;
-                ws.momentum_end.copy_from_slice(&ws.momentum_next);
-                ws.velocity_end.copy_from_slice(&ws.velocity_next);
+            let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
+            if conventions.transfer == Transfer::Apic {
+                update_particles_apic(grid, p, ws, dt);
+            } else {
+                update_particles(grid, p, ws, conventions, dt);
             }
-            _ => end_of_step_velocity(&self.grid, &self.particles, &mut self.workspace, mapping),
+            observer.observe(StepPoint2d::ParticleUpdate, self)?;
+            match conventions.scheme {
+                Scheme::Usl => {
+                    let ws = &mut self.workspace;
+                    ws.momentum_end.copy_from_slice(&ws.momentum_next);
+                    ws.velocity_end.copy_from_slice(&ws.velocity_next);
+                }
+                _ => {
+                    end_of_step_velocity(&self.grid, &self.particles, &mut self.workspace, mapping)
+                }
+            }
         }
         if conventions.positions == Positions::Projected {
             move_particles(&self.grid, &mut self.particles, &self.workspace, dt);

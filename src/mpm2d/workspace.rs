@@ -3,12 +3,14 @@
 //! The nodal quantities of MLS paper Eqs. (22)–(33), the Gauss-point values
 //! of Eqs. (18)–(21) and the per-particle stencils, allocated once per run
 //! ([`StepWorkspace2d`]), and the largest mapping errors of a run
-//! ([`Conservation2d`]).
+//! ([`Conservation2d`], recorded after phase 1 by `record_conservation`).
 //!
 //! Items: [`StepWorkspace2d`], [`Conservation2d`].
 
+use super::particles::Particles2d;
 use super::reconstruction::GaussReconstruction;
 use crate::basis::Stencils;
+use crate::mpm::diagnostics::CompensatedSum;
 use crate::spline::bspline::SpanScratch;
 use serde::{Deserialize, Serialize};
 
@@ -70,4 +72,35 @@ pub struct StepWorkspace2d {
     /// The same eight values at every Gauss point g = gx + 2·cells·gy after
     /// the reconstruction of phase 1, Eqs. (18)–(21).
     pub gauss_values: Vec<[f64; 8]>,
+}
+
+/// The mapping errors of phase 1 into `c` (mass |Σ_i m_i − Σ_p m_p| / Σ_p m_p,
+/// momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, [`Conservation2d`]):
+/// the four particle sums in one pass and the three nodal sums in another,
+/// each a [`CompensatedSum`] over the same terms in the same order as one
+/// pass per sum.
+pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
+    // Compensated sums on both sides, so that the monitor measures the
+    // mapping's rounding and not that of its own sums.
+    let [mut particle_mass, mut scale, mut px, mut py] = [CompensatedSum::default(); 4];
+    for (&m, v) in p.mass.iter().zip(&p.velocity) {
+        particle_mass.add(m);
+        scale.add(m * (v[0] * v[0] + v[1] * v[1]).sqrt());
+        px.add(m * v[0]);
+        py.add(m * v[1]);
+    }
+    let [mut grid_mass, mut gx, mut gy] = [CompensatedSum::default(); 3];
+    for (&m, mv) in ws.mass.iter().zip(&ws.momentum) {
+        grid_mass.add(m);
+        gx.add(mv[0]);
+        gy.add(mv[1]);
+    }
+    let (particle_mass, scale) = (particle_mass.total(), scale.total());
+    c.mass = c
+        .mass
+        .max((grid_mass.total() - particle_mass).abs() / particle_mass);
+    if scale > 0.0 {
+        let (dx, dy) = (gx.total() - px.total(), gy.total() - py.total());
+        c.momentum = c.momentum.max(dx.hypot(dy) / scale);
+    }
 }

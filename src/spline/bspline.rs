@@ -350,6 +350,66 @@ impl KnotVector {
         Ok(span - p)
     }
 
+    /// [`KnotVector::values_and_gradients_fixed`] at two points x = [x₀, x₁]
+    /// at once (a 2D particle's two axes, MLS paper Eqs. 4–5): each
+    /// operation of the triangle on a pair [lane 0, lane 1], which LLVM can
+    /// issue as one SSE2 instruction, and every lane the same operations in
+    /// the same order as one call, so the same bits. `values[l]` and
+    /// `gradients[l]` receive lane l's row; returns each lane's first
+    /// function. The caller guarantees W = p + 1 ≥ 2.
+    #[inline(always)]
+    pub fn values_and_gradients_pair<const W: usize>(
+        &self,
+        x: [f64; 2],
+        values: &mut [[f64; W]; 2],
+        gradients: &mut [[f64; W]; 2],
+    ) -> Result<[usize; 2]> {
+        debug_assert!(W >= 2 && W == self.degree() + 1);
+        let span = [self.find_span(x[0])?, self.find_span(x[1])?];
+        let p = W - 1;
+        let t = self.knots();
+        #[inline(always)]
+        fn lanes(f: impl Fn(usize) -> f64) -> [f64; 2] {
+            [f(0), f(1)]
+        }
+        // ndu[r][j], left and right as in `values_and_gradients_fixed`,
+        // each entry a pair of lanes.
+        let mut ndu = [[[0.0; 2]; W]; W];
+        let (mut left, mut right) = ([[0.0; 2]; W], [[0.0; 2]; W]);
+        ndu[0][0] = [1.0; 2];
+        for j in 1..=p {
+            left[j] = lanes(|l| x[l] - t[span[l] + 1 - j]);
+            right[j] = lanes(|l| t[span[l] + j] - x[l]);
+            let mut saved = [0.0; 2];
+            for r in 0..j {
+                ndu[j][r] = lanes(|l| right[r + 1][l] + left[j - r][l]);
+                let temp = lanes(|l| ndu[r][j - 1][l] / ndu[j][r][l]);
+                ndu[r][j] = lanes(|l| saved[l] + right[r + 1][l] * temp[l]);
+                saved = lanes(|l| left[j - r][l] * temp[l]);
+            }
+            ndu[j][j] = saved;
+        }
+        let pf = p as f64;
+        let mut inverse = [[0.0; 2]; W];
+        for r in 0..p {
+            inverse[r] = lanes(|l| 1.0 / ndu[p][r][l]);
+        }
+        for r in 0..W {
+            let mut d = [0.0; 2];
+            if r >= 1 {
+                d = lanes(|l| inverse[r - 1][l] * ndu[r - 1][p - 1][l]);
+            }
+            if r < p {
+                d = lanes(|l| d[l] + -inverse[r][l] * ndu[r][p - 1][l]);
+            }
+            for l in 0..2 {
+                values[l][r] = ndu[r][p][l];
+                gradients[l][r] = d[l] * pf;
+            }
+        }
+        Ok([span[0] - p, span[1] - p])
+    }
+
     /// [`KnotVector::local_basis`] into a reusable scratch: finds the span of
     /// `x` and evaluates the p+1 functions and `order` derivatives there.
     /// Returns the index of the first function; read the results with

@@ -12,30 +12,35 @@ use crate::mpm2d::NeoHookean;
 use std::f64::consts::PI;
 
 /// The derived body force of Eq. (42) (with π²) at fixed particles, with
-/// sin and cos of 2πX/L and 2πY/L precomputed per particle so that a step
-/// pays one logarithm per particle.
+/// the products that do not depend on t precomputed per particle, so that
+/// a step pays one logarithm and a few products per particle.
 pub struct ManufacturedForce {
     scene: AlignedVibration,
     material: NeoHookean,
-    /// [sin 2πX/L, cos 2πX/L, sin 2πY/L, cos 2πY/L] per particle.
-    trig: Vec<[f64; 4]>,
+    /// [A k cos kX, A k cos kY, (π²/L²) A sin kX, (π²/L²) A sin kY] per
+    /// particle, k = nπ/L, each the left operand
+    /// of the products of Eq. (42) as [`BodyForce2d::fill`] forms them, in
+    /// the same order, so the same bits.
+    terms: Vec<[f64; 4]>,
 }
 
 impl ManufacturedForce {
     /// For the particles with initial positions `x0`.
     pub fn new(scene: AlignedVibration, x0: &[[f64; 2]]) -> Result<Self> {
         let k = scene.wavenumber();
+        let ak = scene.amplitude * scene.solution.waves() * PI / scene.length;
+        let pa = PI * PI / (scene.length * scene.length) * scene.amplitude;
         Ok(Self {
             material: scene.material()?,
             scene,
-            trig: x0
+            terms: x0
                 .iter()
                 .map(|x| {
                     [
-                        (k * x[0]).sin(),
-                        (k * x[0]).cos(),
-                        (k * x[1]).sin(),
-                        (k * x[1]).cos(),
+                        ak * (k * x[0]).cos(),
+                        ak * (k * x[1]).cos(),
+                        pa * (k * x[0]).sin(),
+                        pa * (k * x[1]).sin(),
                     ]
                 })
                 .collect(),
@@ -47,23 +52,17 @@ impl BodyForce2d for ManufacturedForce {
     fn fill(&self, time: f64, _x0: &[[f64; 2]], out: &mut [[f64; 2]]) {
         let sc = &self.scene;
         let s = sc.time_factors(time);
-        let a = sc.amplitude;
-        let ak = a * sc.solution.waves() * PI / sc.length;
         let n2 = sc.solution.waves().powi(2);
         let (lambda, mu, rho) = (self.material.lambda, self.material.mu, sc.density);
         let c2 = sc.wave_speed().powi(2);
-        let pre = PI * PI / (sc.length * sc.length);
-        for (o, t) in out.iter_mut().zip(&self.trig) {
-            let fxx = 1.0 + ak * t[1] * s[0];
-            let fyy = 1.0 + ak * t[3] * s[1];
+        let head = n2 * mu / rho - c2;
+        for (o, t) in out.iter_mut().zip(&self.terms) {
+            let fxx = 1.0 + t[0] * s[0];
+            let fyy = 1.0 + t[1] * s[1];
             let ln_j = (fxx * fyy).ln();
-            let bracket = |fii: f64| {
-                n2 * mu / rho - c2 - n2 * (lambda * (ln_j - 1.0) - mu) / (rho * fii * fii)
-            };
-            *o = [
-                pre * a * t[0] * s[0] * bracket(fxx),
-                pre * a * t[2] * s[1] * bracket(fyy),
-            ];
+            let numerator = n2 * (lambda * (ln_j - 1.0) - mu);
+            let bracket = |fii: f64| head - numerator / (rho * fii * fii);
+            *o = [t[2] * s[0] * bracket(fxx), t[3] * s[1] * bracket(fyy)];
         }
     }
 }

@@ -11,3 +11,4 @@ mod mpm2d;
 #[path = "../../../benches/lean/p1.rs"]
 #[allow(dead_code)]
 mod p1;
+mod step_2d;
