@@ -217,3 +217,55 @@ fn only_the_book_s_direct_lumped_step_is_fused() {
     assert!(with_field.settings.body_force.is_some());
     assert!(!with_field.step_is_fused());
 }
+
+/// The monitor's verdict from a step summary is `check`'s when the run
+/// diverges too: an energy above the budget stops the run with the same
+/// error, and a largest strain at the limit (1) sends the check to the
+/// particles, which names the first one there; below the limit the
+/// summary answers for every particle.
+#[test]
+fn the_monitor_stops_a_summarised_step_where_check_stops_it() {
+    use hompm::mpm::monitor::STRAIN_LIMIT;
+    use hompm::mpm::musl::StepSummary;
+    let mut sim = bar("thesis-table-4.1", Method::Mpm, 16);
+    let summary = sim.step_summarised(1e-5).unwrap();
+    let tight = StabilityMonitor::with_budget(0.5 * summary.energy, Vec::new());
+    let (mut a, mut b) = (tight.clone(), tight);
+    let by_summary = a.check_step(&sim, &summary);
+    assert!(by_summary.is_err());
+    assert_eq!(format!("{by_summary:?}"), format!("{:?}", b.check(&sim)));
+    let roomy = StabilityMonitor::with_budget(1e30, Vec::new());
+    sim.particles.strain[3] = -1.5;
+    let at_limit = StepSummary {
+        energy: summary.energy,
+        max_abs_strain: STRAIN_LIMIT,
+    };
+    let (mut a, mut b) = (roomy.clone(), roomy.clone());
+    let by_summary = a.check_step(&sim, &at_limit);
+    assert!(
+        format!("{by_summary:?}").contains("particle: Some(3)"),
+        "{by_summary:?}"
+    );
+    assert_eq!(format!("{by_summary:?}"), format!("{:?}", b.check(&sim)));
+    let below = StepSummary {
+        max_abs_strain: 0.5,
+        ..at_limit
+    };
+    assert!(roomy.clone().check_step(&sim, &below).is_ok());
+}
+
+/// The lumped projection's record with no active DOF (no mass reached
+/// any node): the diagonal ratio is 0, not min/max of an empty set (book
+/// Eq. 4.10's diagnostics, thesis §7.2.4).
+#[test]
+fn a_projection_that_reaches_no_node_records_a_diagonal_ratio_of_zero() {
+    use hompm::mpm::mapping::{
+        diagnose_projection, solve_projection, MappingWorkspace, MassMatrix,
+    };
+    let sim = bar("thesis-table-4.1", Method::Mpm, 4);
+    let mut ws = MappingWorkspace::new(&sim.grid, 0).unwrap();
+    let iterations = solve_projection(None, MassMatrix::Lumped, &mut ws).unwrap();
+    let record = diagnose_projection(None, iterations, &mut ws);
+    assert_eq!(record.diagonal_ratio, 0.0);
+    assert_eq!(record.grid_mass, 0.0);
+}
