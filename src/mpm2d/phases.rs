@@ -34,7 +34,7 @@ use super::grid::Grid2d;
 use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
-use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
+use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction, ShapeLists};
 use super::workspace::StepWorkspace2d;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
@@ -258,11 +258,8 @@ fn map_reconstructed_with(
     for (gx, gy) in storage_order(grid.cells_per_side()) {
         let g = gx + ng * gy;
         let mut q = [0.0; 8];
-        for e in lists.start[g]..lists.end[g] {
-            let (d, phi) = (
-                &ws.particle_values[lists.particle[e] as usize],
-                lists.phi[e],
-            );
+        for (&k, &phi) in list(lists, g) {
+            let d = &ws.particle_values[k as usize];
             for (qi, di) in q.iter_mut().zip(d) {
                 *qi += phi * di;
             }
@@ -284,13 +281,27 @@ fn scatter_gauss_point(
 ) {
     let s = grid.gauss_stencils();
     let stencil = TensorStencil::of(s, gx, s, gy, s.width(), grid.nodes_per_side());
-    stencil.for_each(|i, nn, dn| {
-        ws.mass[i] += nn * q[0];
-        ws.momentum[i][0] += nn * q[1];
-        ws.momentum[i][1] += nn * q[2];
-        ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
-        ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+    stencil.for_each_row(|start, row| {
+        let mass = &mut ws.mass[start..][..row.len()];
+        let momentum = &mut ws.momentum[start..][..row.len()];
+        let force = &mut ws.force[start..][..row.len()];
+        row.for_each(|a, nn, dn| {
+            mass[a] += nn * q[0];
+            momentum[a][0] += nn * q[1];
+            momentum[a][1] += nn * q[2];
+            force[a][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
+            force[a][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+        });
     });
+}
+
+/// The entries (particle, φ_gp) of Gauss point g's list.
+#[inline(always)]
+fn list<'a>(lists: ShapeLists<'a>, g: usize) -> impl Iterator<Item = (&'a u32, &'a f64)> {
+    let entries = lists.start[g]..lists.end[g];
+    lists.particle[entries.clone()]
+        .iter()
+        .zip(&lists.phi[entries])
 }
 
 /// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components
@@ -406,6 +417,11 @@ pub fn end_of_step_velocity(
     let n = grid.nodes_per_side();
     match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
         (true, Some(shapes)) => {
+            // ρ_p and v_p^{t+1} side by side, for one read per list entry.
+            let particles = p.density.iter().zip(&p.velocity);
+            for (e, (&rho, v)) in ws.end_values.iter_mut().zip(particles) {
+                *e = [rho, v[0], v[1]];
+            }
             let lists = shapes.lists();
             let s = grid.gauss_stencils();
             let ng = 2 * grid.cells_per_side();
@@ -413,10 +429,10 @@ pub fn end_of_step_velocity(
             for (gx, gy) in storage_order(grid.cells_per_side()) {
                 let g = gx + ng * gy;
                 let mut q = [0.0; 2];
-                for e in lists.start[g]..lists.end[g] {
-                    let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
-                    q[0] += phi * p.density[k] * p.velocity[k][0];
-                    q[1] += phi * p.density[k] * p.velocity[k][1];
+                for (&k, &phi) in list(lists, g) {
+                    let [rho, vx, vy] = ws.end_values[k as usize];
+                    q[0] += phi * rho * vx;
+                    q[1] += phi * rho * vy;
                 }
                 scatter_vector(
                     n,
@@ -483,9 +499,12 @@ fn scatter_vector(
     q: [f64; 2],
     out: &mut [[f64; 2]],
 ) {
-    TensorStencil::of(sx, kx, sy, ky, sx.width(), n).for_each(|i, nn, _| {
-        out[i][0] += nn * q[0];
-        out[i][1] += nn * q[1];
+    TensorStencil::of(sx, kx, sy, ky, sx.width(), n).for_each_row(|start, row| {
+        let out = &mut out[start..][..row.len()];
+        row.for_each(|a, nn, _| {
+            out[a][0] += nn * q[0];
+            out[a][1] += nn * q[1];
+        });
     });
 }
 
