@@ -34,17 +34,19 @@ use super::grid::Grid2d;
 use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
-use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction, ShapeLists};
+use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
 use super::workspace::StepWorkspace2d;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
 
 mod fused;
+mod lists;
 mod other_codes;
 mod reference;
 mod rows;
 pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
+use lists::{gauss_point_momentum, gauss_point_values};
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
@@ -257,13 +259,7 @@ fn map_reconstructed_with(
     }
     for (gx, gy) in storage_order(grid.cells_per_side()) {
         let g = gx + ng * gy;
-        let mut q = [0.0; 8];
-        for (&k, &phi) in list(lists, g) {
-            let d = &ws.particle_values[k as usize];
-            for (qi, di) in q.iter_mut().zip(d) {
-                *qi += phi * di;
-            }
-        }
+        let q = gauss_point_values(lists, g, &ws.particle_values);
         ws.gauss_values[g] = q;
         scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
     }
@@ -293,15 +289,6 @@ fn scatter_gauss_point(
             force[a][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
         });
     });
-}
-
-/// The entries (particle, φ_gp) of Gauss point g's list.
-#[inline(always)]
-fn list<'a>(lists: ShapeLists<'a>, g: usize) -> impl Iterator<Item = (&'a u32, &'a f64)> {
-    let entries = lists.start[g]..lists.end[g];
-    lists.particle[entries.clone()]
-        .iter()
-        .zip(&lists.phi[entries])
 }
 
 /// Zero normal velocity on the walls x = 0, L and y = 0, L: the x components
@@ -428,12 +415,7 @@ pub fn end_of_step_velocity(
             let omega = grid.gauss_weight();
             for (gx, gy) in storage_order(grid.cells_per_side()) {
                 let g = gx + ng * gy;
-                let mut q = [0.0; 2];
-                for (&k, &phi) in list(lists, g) {
-                    let [rho, vx, vy] = ws.end_values[k as usize];
-                    q[0] += phi * rho * vx;
-                    q[1] += phi * rho * vy;
-                }
+                let q = gauss_point_momentum(lists, g, &ws.end_values);
                 scatter_vector(
                     n,
                     s,
