@@ -254,12 +254,7 @@ impl MlsShapes {
     /// Eqs. (10), (14), (16)–(17) at one Gauss point from its gathered
     /// particles `local[q]`: accumulates A, inverts it and appends φ_gp.
     fn gauss_point(&mut self, xg: [f64; 2], q: usize) -> Result<()> {
-        let mut a = Matrix3::zeros();
-        let gathered = &self.local[q][..self.count[q]];
-        for &(_, w, d) in gathered {
-            accumulate_moment(&mut a, w, d);
-        }
-        mirror_first_row(&mut a);
+        let a = accumulate_moment(&self.local[q][..self.count[q]]);
         // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
         let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
         if kappa.is_finite() {
@@ -314,26 +309,32 @@ impl GaussReconstruction for MlsShapes {
     }
 }
 
-/// A += w q qᵀ with q = [1, d_x, d_y] (MLS paper Eq. 10). Entry (i, j)
-/// adds (w q_i) q_j; those with i = 0 or j = 0 are w q_j or w q_i on both
-/// sides of the diagonal and are formed once, (1, 2) and (2, 1) are not
-/// the same product and are formed each.
-#[inline(always)]
-fn accumulate_moment(a: &mut Matrix3<f64>, w: f64, d: [f64; 2]) {
-    let (wx, wy) = (w * d[0], w * d[1]);
-    a[(0, 0)] += w;
-    a[(0, 1)] += wx;
-    a[(0, 2)] += wy;
-    a[(1, 1)] += wx * d[0];
-    a[(1, 2)] += wx * d[1];
-    a[(2, 1)] += wy * d[0];
-    a[(2, 2)] += wy * d[1];
-}
-
-/// Completes A's first column from its first row, which hold the same sums.
-fn mirror_first_row(a: &mut Matrix3<f64>) {
-    a[(1, 0)] = a[(0, 1)];
-    a[(2, 0)] = a[(0, 2)];
+/// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
+/// (particle, w, d) (MLS paper Eq. 10), each entry summed in list order.
+/// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
+/// w q_i on both sides of the diagonal and are summed once; (1, 2) and
+/// (2, 1) are not the same product and are summed each, as the two lanes
+/// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
+/// registers.
+#[inline(never)]
+fn accumulate_moment(gathered: &[(u32, f64, [f64; 2])]) -> Matrix3<f64> {
+    let mut a00 = 0.0;
+    // [A01, A02], [A11, A21], [A12, A22].
+    let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+    for &(_, w, d) in gathered {
+        let wd = [w * d[0], w * d[1]];
+        a00 += w;
+        first = [first[0] + wd[0], first[1] + wd[1]];
+        by_x = [by_x[0] + wd[0] * d[0], by_x[1] + wd[1] * d[0]];
+        by_y = [by_y[0] + wd[0] * d[1], by_y[1] + wd[1] * d[1]];
+    }
+    #[rustfmt::skip]
+    let a = Matrix3::new(
+        a00, first[0], first[1],
+        first[0], by_x[0], by_y[0],
+        first[1], by_x[1], by_y[1],
+    );
+    a
 }
 
 /// One cell's candidates offered to the points of a cell
