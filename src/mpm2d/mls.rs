@@ -268,14 +268,27 @@ impl MlsShapes {
                 limit: MLS_MAX_CONDITION,
             });
         }
-        // Two extends, not a push per entry: one capacity check each, and
-        // z stays in registers.
         let gathered = &self.local[q][..self.count[q]];
-        self.particle.extend(gathered.iter().map(|&(k, _, _)| k));
-        let phi = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
-        self.phi.extend(gathered.iter().map(phi));
+        append_shape_functions(&mut self.particle, &mut self.phi, gathered, z);
         Ok(())
     }
+}
+
+/// Appends, for each gathered (particle, w, d), the particle and
+/// φ_gp = w (z₀ + z₁ d_x + z₂ d_y) (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and
+/// z the first row of A⁻¹). Two extends, not a push per entry (one
+/// capacity check each), in a function of its own so that z stays in
+/// registers.
+#[inline(never)]
+fn append_shape_functions(
+    particle: &mut Vec<u32>,
+    phi: &mut Vec<f64>,
+    gathered: &[(u32, f64, [f64; 2])],
+    z: [f64; 3],
+) {
+    particle.extend(gathered.iter().map(|&(k, _, _)| k));
+    let shape = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
+    phi.extend(gathered.iter().map(shape));
 }
 
 impl Reconstruction for MlsShapes {
