@@ -125,7 +125,9 @@ impl MlsShapes {
     /// (the particles of the 5×5 cells around it, which hold every particle
     /// within 1.5·s·h of any of them when s ≤ 1, and of more cells when s > 1),
     /// and the weight w(r_x) w(r_y) is separable, so each candidate costs
-    /// four 1D weights for the four points.
+    /// at most four 1D weights for the four points. A cell of the border of
+    /// the 5×5 reaches only the points on its side (two, or one at a corner):
+    /// its candidates are weighed and listed for those alone.
     pub fn evaluate(
         &mut self,
         gauss: &GaussGrid,
@@ -172,9 +174,6 @@ impl MlsShapes {
         ];
         let xr = Self::cell_range(gx[0] - reach, gx[1] + reach, h, cells);
         let yr = Self::cell_range(gy[0] - reach, gy[1] + reach, h, cells);
-        // Every candidate is written to all four lists and kept where w > 0
-        // (a branch-free compaction: about half of the candidates fall
-        // outside each support, which a branch would mispredict).
         let candidates: usize = yr
             .clone()
             .map(|cy| {
@@ -187,26 +186,62 @@ impl MlsShapes {
             }
         }
         self.count = [0; 4];
+        let Self {
+            bin_start,
+            bin_particles,
+            local,
+            count,
+            ..
+        } = self;
+        // Cell by cell in the bins' order (rows, then cells, then particles
+        // in index order), so every list keeps the candidates' order; a cell
+        // is offered only to the points whose support it can reach.
         for cy in yr {
-            let row = cy * cells;
-            for &k in &self.bin_particles
-                [self.bin_start[row + xr.start()]..self.bin_start[row + xr.end() + 1]]
-            {
-                let [px, py] = x[k as usize];
-                let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
-                let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
-                let wx = dx.map(quadratic_spline_weight);
-                let wy = dy.map(quadratic_spline_weight);
-                for j in 0..2 {
-                    for i in 0..2 {
-                        let q = 2 * j + i;
-                        let w = wx[i] * wy[j];
-                        self.local[q][self.count[q]] = (k, w, [dx[i], dy[j]]);
-                        self.count[q] += usize::from(w > 0.0);
-                    }
+            let my = Self::reachable(cy, gy, reach, h);
+            for cx in xr.clone() {
+                let mx = Self::reachable(cx, gx, reach, h);
+                let c = cy * cells + cx;
+                let particles = &bin_particles[bin_start[c]..bin_start[c + 1]];
+                let scan = Scan {
+                    x,
+                    gx,
+                    gy,
+                    scale,
+                    local: &mut *local,
+                    count: &mut *count,
+                };
+                macro_rules! masks {
+                    ($(($i:literal, $j:literal)),*) => {
+                        match (mx, my) {
+                            $(($i, $j) => scan.cell::<$i, $j>(particles),)*
+                            _ => {}
+                        }
+                    };
                 }
+                masks!(
+                    (1, 1),
+                    (1, 2),
+                    (1, 3),
+                    (2, 1),
+                    (2, 2),
+                    (2, 3),
+                    (3, 1),
+                    (3, 2),
+                    (3, 3)
+                );
             }
         }
+    }
+
+    /// Which of the two points g[0], g[1] of an axis the particles of cell
+    /// c of that axis may lie within `reach` of: bit i for g[i]. The cell
+    /// [c h, (c + 1) h] is widened by h/100, far more than the rounding of
+    /// the particles' cells and of the scaled offsets, so a point left out
+    /// has w = 0 for every particle of the cell.
+    fn reachable(c: usize, g: [f64; 2], reach: f64, h: f64) -> u8 {
+        let (lo, hi) = (c as f64 * h - 0.01 * h, (c + 1) as f64 * h + 0.01 * h);
+        let near = |g: f64| lo < g + reach && hi > g - reach;
+        u8::from(near(g[0])) | (u8::from(near(g[1])) << 1)
     }
 
     /// The cells a reach [lo, hi] on one axis touches.
@@ -219,11 +254,7 @@ impl MlsShapes {
     /// Eqs. (10), (14), (16)–(17) at one Gauss point from its gathered
     /// particles `local[q]`: accumulates A, inverts it and appends φ_gp.
     fn gauss_point(&mut self, xg: [f64; 2], q: usize) -> Result<()> {
-        let mut a = Matrix3::zeros();
-        let gathered = &self.local[q][..self.count[q]];
-        for &(_, w, d) in gathered {
-            accumulate_moment(&mut a, w, d);
-        }
+        let a = accumulate_moment(&self.local[q][..self.count[q]]);
         // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
         let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
         if kappa.is_finite() {
@@ -237,14 +268,27 @@ impl MlsShapes {
                 limit: MLS_MAX_CONDITION,
             });
         }
-        // Two extends, not a push per entry: one capacity check each, and
-        // z stays in registers.
         let gathered = &self.local[q][..self.count[q]];
-        self.particle.extend(gathered.iter().map(|&(k, _, _)| k));
-        let phi = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
-        self.phi.extend(gathered.iter().map(phi));
+        append_shape_functions(&mut self.particle, &mut self.phi, gathered, z);
         Ok(())
     }
+}
+
+/// Appends, for each gathered (particle, w, d), the particle and
+/// φ_gp = w (z₀ + z₁ d_x + z₂ d_y) (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and
+/// z the first row of A⁻¹). Two extends, not a push per entry (one
+/// capacity check each), in a function of its own so that z stays in
+/// registers.
+#[inline(never)]
+fn append_shape_functions(
+    particle: &mut Vec<u32>,
+    phi: &mut Vec<f64>,
+    gathered: &[(u32, f64, [f64; 2])],
+    z: [f64; 3],
+) {
+    particle.extend(gathered.iter().map(|&(k, _, _)| k));
+    let shape = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
+    phi.extend(gathered.iter().map(shape));
 }
 
 impl Reconstruction for MlsShapes {
@@ -278,12 +322,72 @@ impl GaussReconstruction for MlsShapes {
     }
 }
 
-/// A += w q qᵀ with q = [1, d_x, d_y] (MLS paper Eq. 10).
-fn accumulate_moment(a: &mut Matrix3<f64>, w: f64, d: [f64; 2]) {
-    let q = [1.0, d[0], d[1]];
-    for i in 0..3 {
-        for j in 0..3 {
-            a[(i, j)] += w * q[i] * q[j];
+/// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
+/// (particle, w, d) (MLS paper Eq. 10), each entry summed in list order.
+/// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
+/// w q_i on both sides of the diagonal and are summed once; (1, 2) and
+/// (2, 1) are not the same product and are summed each, as the two lanes
+/// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
+/// registers.
+#[inline(never)]
+fn accumulate_moment(gathered: &[(u32, f64, [f64; 2])]) -> Matrix3<f64> {
+    let mut a00 = 0.0;
+    // [A01, A02], [A11, A21], [A12, A22].
+    let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+    for &(_, w, d) in gathered {
+        let wd = [w * d[0], w * d[1]];
+        a00 += w;
+        first = [first[0] + wd[0], first[1] + wd[1]];
+        by_x = [by_x[0] + wd[0] * d[0], by_x[1] + wd[1] * d[0]];
+        by_y = [by_y[0] + wd[0] * d[1], by_y[1] + wd[1] * d[1]];
+    }
+    #[rustfmt::skip]
+    let a = Matrix3::new(
+        a00, first[0], first[1],
+        first[0], by_x[0], by_y[0],
+        first[1], by_x[1], by_y[1],
+    );
+    a
+}
+
+/// One cell's candidates offered to the points of a cell
+/// ([`Scan::cell`]).
+struct Scan<'a> {
+    x: &'a [[f64; 2]],
+    gx: [f64; 2],
+    gy: [f64; 2],
+    scale: f64,
+    local: &'a mut [Vec<(u32, f64, [f64; 2])>; 4],
+    count: &'a mut [usize; 4],
+}
+
+impl Scan<'_> {
+    /// Appends (particle, w, scaled offset) of each of `particles` to the
+    /// list of every point q = 2j + i with bit i of `MX` and bit j of `MY`
+    /// set, kept where w = w(d_x) w(d_y) > 0 (Eqs. 16–17; a branch-free
+    /// compaction, as about half of the candidates fall outside a support,
+    /// which a branch would mispredict).
+    #[inline(always)]
+    fn cell<const MX: u8, const MY: u8>(self, particles: &[u32]) {
+        let (gx, gy, scale) = (self.gx, self.gy, self.scale);
+        let weight = |on: bool, d: f64| if on { quadratic_spline_weight(d) } else { 0.0 };
+        for &k in particles {
+            let [px, py] = self.x[k as usize];
+            let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
+            let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
+            let wx = [weight(MX & 1 != 0, dx[0]), weight(MX & 2 != 0, dx[1])];
+            let wy = [weight(MY & 1 != 0, dy[0]), weight(MY & 2 != 0, dy[1])];
+            for j in 0..2 {
+                for i in 0..2 {
+                    if MY >> j & 1 == 0 || MX >> i & 1 == 0 {
+                        continue;
+                    }
+                    let q = 2 * j + i;
+                    let w = wx[i] * wy[j];
+                    self.local[q][self.count[q]] = (k, w, [dx[i], dy[j]]);
+                    self.count[q] += usize::from(w > 0.0);
+                }
+            }
         }
     }
 }

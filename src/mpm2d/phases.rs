@@ -41,10 +41,12 @@ use crate::error::{Error, Result};
 use crate::mpm::conventions::{Conventions, Positions, Transfer};
 
 mod fused;
+mod lists;
 mod other_codes;
 mod reference;
 mod rows;
 pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
+use lists::{gauss_point_momentum, gauss_point_values};
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
@@ -257,16 +259,7 @@ fn map_reconstructed_with(
     }
     for (gx, gy) in storage_order(grid.cells_per_side()) {
         let g = gx + ng * gy;
-        let mut q = [0.0; 8];
-        for e in lists.start[g]..lists.end[g] {
-            let (d, phi) = (
-                &ws.particle_values[lists.particle[e] as usize],
-                lists.phi[e],
-            );
-            for (qi, di) in q.iter_mut().zip(d) {
-                *qi += phi * di;
-            }
-        }
+        let q = gauss_point_values(lists, g, &ws.particle_values);
         ws.gauss_values[g] = q;
         scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
     }
@@ -284,12 +277,17 @@ fn scatter_gauss_point(
 ) {
     let s = grid.gauss_stencils();
     let stencil = TensorStencil::of(s, gx, s, gy, s.width(), grid.nodes_per_side());
-    stencil.for_each(|i, nn, dn| {
-        ws.mass[i] += nn * q[0];
-        ws.momentum[i][0] += nn * q[1];
-        ws.momentum[i][1] += nn * q[2];
-        ws.force[i][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
-        ws.force[i][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+    stencil.for_each_row(|start, row| {
+        let mass = &mut ws.mass[start..][..row.len()];
+        let momentum = &mut ws.momentum[start..][..row.len()];
+        let force = &mut ws.force[start..][..row.len()];
+        row.for_each(|a, nn, dn| {
+            mass[a] += nn * q[0];
+            momentum[a][0] += nn * q[1];
+            momentum[a][1] += nn * q[2];
+            force[a][0] += nn * q[3] - (q[5] * dn[0] + q[7] * dn[1]);
+            force[a][1] += nn * q[4] - (q[7] * dn[0] + q[6] * dn[1]);
+        });
     });
 }
 
@@ -406,18 +404,18 @@ pub fn end_of_step_velocity(
     let n = grid.nodes_per_side();
     match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
         (true, Some(shapes)) => {
+            // ρ_p and v_p^{t+1} side by side, for one read per list entry.
+            let particles = p.density.iter().zip(&p.velocity);
+            for (e, (&rho, v)) in ws.end_values.iter_mut().zip(particles) {
+                *e = [rho, v[0], v[1]];
+            }
             let lists = shapes.lists();
             let s = grid.gauss_stencils();
             let ng = 2 * grid.cells_per_side();
             let omega = grid.gauss_weight();
             for (gx, gy) in storage_order(grid.cells_per_side()) {
                 let g = gx + ng * gy;
-                let mut q = [0.0; 2];
-                for e in lists.start[g]..lists.end[g] {
-                    let (k, phi) = (lists.particle[e] as usize, lists.phi[e]);
-                    q[0] += phi * p.density[k] * p.velocity[k][0];
-                    q[1] += phi * p.density[k] * p.velocity[k][1];
-                }
+                let q = gauss_point_momentum(lists, g, &ws.end_values);
                 scatter_vector(
                     n,
                     s,
@@ -483,9 +481,12 @@ fn scatter_vector(
     q: [f64; 2],
     out: &mut [[f64; 2]],
 ) {
-    TensorStencil::of(sx, kx, sy, ky, sx.width(), n).for_each(|i, nn, _| {
-        out[i][0] += nn * q[0];
-        out[i][1] += nn * q[1];
+    TensorStencil::of(sx, kx, sy, ky, sx.width(), n).for_each_row(|start, row| {
+        let out = &mut out[start..][..row.len()];
+        row.for_each(|a, nn, _| {
+            out[a][0] += nn * q[0];
+            out[a][1] += nn * q[1];
+        });
     });
 }
 

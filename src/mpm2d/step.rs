@@ -247,6 +247,11 @@ impl Simulation2d {
             } else {
                 Vec::new()
             },
+            end_values: if reconstruction.is_some() {
+                vec![[0.0; 3]; n]
+            } else {
+                Vec::new()
+            },
             gauss_values: if reconstruction.is_some() {
                 vec![[0.0; 8]; 4 * grid.cells_per_side() * grid.cells_per_side()]
             } else {

@@ -69,6 +69,9 @@ pub struct StepWorkspace2d {
     /// [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] per particle, the values
     /// a reconstruction carries to the Gauss points (Eqs. 18–21).
     pub particle_values: Vec<[f64; 8]>,
+    /// [ρ_p, v_x, v_y] per particle at the end of a step, the values the
+    /// reconstructed Eq. (31) reads side by side.
+    pub end_values: Vec<[f64; 3]>,
     /// The same eight values at every Gauss point g = gx + 2·cells·gy after
     /// the reconstruction of phase 1, Eqs. (18)–(21).
     pub gauss_values: Vec<[f64; 8]>,
