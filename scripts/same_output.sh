@@ -27,7 +27,11 @@ else
 fi
 echo "building the work tree …" >&2
 (cd "$root" && cargo build --quiet --release --bin hompm)
-new="$root/target/release/hompm"
+# The work tree's binary is where cargo put it: CARGO_TARGET_DIR if set
+# (else a stale binary under target/ would be compared).
+target_dir=${CARGO_TARGET_DIR:-$root/target}
+case $target_dir in /*) ;; *) target_dir=$root/$target_dir ;; esac
+new="$target_dir/release/hompm"
 
 # The JSON of one run without its timing fields (errors compare as text).
 digest() {
