@@ -40,8 +40,13 @@ parse() {
       printf "%s %.1f\n", name, 1e9 / (v * f); name = ""; next
     }
     /[├╰]─ / {
+      # A case line carries its times; a line without them opens a group
+      # (a bench function whose cases are its arguments, as in lean_p1:
+      # hompm_step/1024), and a case named without a slash is prefixed
+      # with its group.
       line = $0; sub(/.*─ /, "", line); split(line, w, " ");
-      if (w[1] ~ /\//) name = w[1]
+      if (line ~ /[0-9.]+ (ns|µs|ms|s) /) name = (w[1] ~ /\//) ? w[1] : group "/" w[1];
+      else group = w[1]
     }' "$1"
 }
 
