@@ -441,6 +441,20 @@ impl Grid {
         n <= br.len() && (n == 0 || br[n - 1] <= x) && (n == br.len() || br[n] > x)
     }
 
+    /// The grid crossings of a particle that moved to x from where
+    /// `breaks_before` gradient breaks lay at or below it,
+    /// |N(x) − breaks_before| (thesis §3.3); `breaks_before` becomes N(x).
+    #[inline(always)]
+    pub fn crossings_to(&self, breaks_before: &mut usize, x: f64) -> usize {
+        if self.breaks_at_or_below_is(*breaks_before, x) {
+            return 0;
+        }
+        let after = self.breaks_at_or_below(x);
+        let crossed = after.abs_diff(*breaks_before);
+        *breaks_before = after;
+        crossed
+    }
+
     /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3),
     /// written into `values` and `gradients` (each [`Grid::stencil_width`]
     /// long) without allocating. Returns the global index of the first

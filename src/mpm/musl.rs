@@ -567,11 +567,7 @@ impl Simulation {
         let mut crossings = 0;
         let counted = ws.breaks_before.iter_mut().zip(&mut ws.counted_at);
         for ((before, at), &x) in counted.zip(&p.x) {
-            if !self.grid.breaks_at_or_below_is(*before, x) {
-                let after = self.grid.breaks_at_or_below(x);
-                crossings += after.abs_diff(*before);
-                *before = after;
-            }
+            crossings += self.grid.crossings_to(before, x);
             *at = x;
         }
         self.diagnostics.record_particles(&p.strain, crossings);

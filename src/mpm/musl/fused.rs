@@ -367,11 +367,7 @@ fn move_particles<const W: usize, const ENERGY: bool>(
             screen.energy += particle_energy(mass[k], velocity[k], stress[k], strain[k], volume[k]);
         }
         if monitors {
-            if !grid.breaks_at_or_below_is(breaks_before[k], xk) {
-                let after = grid.breaks_at_or_below(xk);
-                screen.crossings += after.abs_diff(breaks_before[k]);
-                breaks_before[k] = after;
-            }
+            screen.crossings += grid.crossings_to(&mut breaks_before[k], xk);
             counted_at[k] = xk;
         }
         // A screen, not the check: false for a NaN anywhere or a particle
