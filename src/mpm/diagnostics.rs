@@ -13,7 +13,7 @@
 //! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`],
 //! [`CompensatedSum`], [`RunDiagnostics`].
 
-use super::mapping::Projection;
+use super::mapping::{running_max, Projection};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -206,7 +206,10 @@ impl RunDiagnostics {
     ) {
         self.solver_iterations += projection.solver_iterations;
         self.min_mass_diagonal_ratio = self.min_mass_diagonal_ratio.min(projection.diagonal_ratio);
-        let vmax = nodal_velocity.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        let vmax = nodal_velocity
+            .iter()
+            .map(|v| v.abs())
+            .fold(0.0, running_max);
         self.max_nodal_velocity = self.max_nodal_velocity.max(vmax);
         self.max_particle_velocity = self.max_particle_velocity.max(fastest_particle_speed);
         self.max_mass_error = self

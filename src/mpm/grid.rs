@@ -38,7 +38,7 @@
 //!
 //! Items: [`Shape`], [`Grid`].
 
-mod fill;
+pub(crate) mod fill;
 use super::conventions::Knots;
 pub use super::method::{Method, MethodFamily, NodeIntegrals, METHOD_FAMILIES};
 use crate::basis::{with_width, Basis1d, Stencils};

@@ -72,7 +72,7 @@ pub mod tls;
 
 pub use mls::{MlsWeights, MlsWorkspace};
 pub use projection::solve_consistent_acceleration;
-pub use projection::{diagnose_projection, solve_projection, Projection};
+pub use projection::{diagnose_projection, running_max, running_min, solve_projection, Projection};
 pub(crate) use quadrature::accumulate_lumped_row;
 pub use quadrature::Accumulator;
 pub use reconstruction::{Reconstruction, Reconstruction1d};

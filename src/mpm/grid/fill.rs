@@ -91,22 +91,37 @@ pub(crate) enum FixedWidthEvaluator<'a, const W: usize> {
     Lagrange(&'a LagrangeBasis),
 }
 
+/// A particle loop over the basis of a fixed width `W`
+/// ([`FixedWidthEvaluator::run`]): `run` is compiled once per basis, with
+/// `evaluate` the basis' own function, so the loop takes no branch on the
+/// kind of basis per particle.
+pub(crate) trait FixedWidthLoop<const W: usize> {
+    /// What the loop returns.
+    type Output;
+    /// The loop, given φ_i(x), ∇φ_i(x) at one point into its rows (the
+    /// return value is the first function's index).
+    fn run(
+        self,
+        evaluate: impl Fn(f64, &mut [f64; W], &mut [f64; W]) -> Result<usize>,
+    ) -> Self::Output;
+}
+
 impl<const W: usize> FixedWidthEvaluator<'_, W> {
-    /// The basis at x into `values` and `gradients`; returns the first
-    /// function's index.
+    /// Runs `particle_loop` with this grid's basis: the branch on its kind
+    /// is taken once, outside the loop (the same numbers at every point
+    /// as [`Grid::fill_stencils`]).
     #[inline(always)]
-    pub(crate) fn evaluate(
-        &self,
-        x: f64,
-        values: &mut [f64; W],
-        gradients: &mut [f64; W],
-    ) -> Result<usize> {
+    pub(crate) fn run<L: FixedWidthLoop<W>>(self, particle_loop: L) -> L::Output {
         match self {
-            Self::BSpline(kv) => kv.values_and_gradients_fixed::<W>(x, values, gradients),
-            Self::Lagrange(basis) => match basis.evaluate_fixed::<W>(x, values, gradients) {
-                Some(result) => result,
-                None => basis.evaluate_into(x, values, gradients),
-            },
+            Self::BSpline(kv) => {
+                particle_loop.run(|x, v, g| kv.values_and_gradients_fixed::<W>(x, v, g))
+            }
+            Self::Lagrange(basis) => {
+                particle_loop.run(|x, v, g| match basis.evaluate_fixed::<W>(x, v, g) {
+                    Some(result) => result,
+                    None => basis.evaluate_into(x, v, g),
+                })
+            }
         }
     }
 }

@@ -16,7 +16,7 @@
 //! M a = f_ext − f_int ([`solve_consistent_acceleration`]).
 //!
 //! Items: [`Projection`], [`solve_projection`], [`diagnose_projection`],
-//! [`solve_consistent_acceleration`].
+//! [`solve_consistent_acceleration`], [`running_max`], [`running_min`].
 
 use super::{ConsistentSolver, MappingWorkspace, MassMatrix};
 use crate::error::Result;
@@ -169,8 +169,10 @@ pub fn diagnose_projection(
         grid_mass += m;
         lumped_momentum += m * v;
         if d != 0.0 {
-            dmax = f64::max(dmax, d);
-            dmin = f64::min(dmin, d);
+            // The running extremes by one comparison each (the same values
+            // as f64::max and f64::min: dmax, dmin are never NaN, d ≠ 0).
+            dmax = running_max(dmax, d);
+            dmin = running_min(dmin, d);
         }
     }
     let diagonal_ratio = if dmax > 0.0 { dmin / dmax } else { 0.0 };
@@ -188,5 +190,31 @@ pub fn diagnose_projection(
         grid_momentum,
         solver_iterations,
         diagonal_ratio,
+    }
+}
+
+/// The larger of a running maximum and x: `f64::max(largest, x)` for a
+/// `largest` that is not NaN and zeros of one sign (a NaN x leaves it), in
+/// one comparison. A monitor's running maximum waits on each update, and
+/// `f64::max`, with its rule for a NaN `largest`, is a chain of five
+/// instructions where this is one (issue #39: the chain bounded the
+/// projection's diagnosis and the fused step's loops).
+#[inline(always)]
+pub fn running_max(largest: f64, x: f64) -> f64 {
+    if x > largest {
+        x
+    } else {
+        largest
+    }
+}
+
+/// The smaller of a running minimum and x: `f64::min(smallest, x)` for a
+/// `smallest` that is not NaN and zeros of one sign ([`running_max`]).
+#[inline(always)]
+pub fn running_min(smallest: f64, x: f64) -> f64 {
+    if x < smallest {
+        x
+    } else {
+        smallest
     }
 }

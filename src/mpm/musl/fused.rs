@@ -38,10 +38,12 @@ use super::particle_equations::{
     update_volume_density_strain,
 };
 use super::{particle_energy, BodyForceAt, Constitutive, Simulation, StepSummary};
+use super::{Particles, StepWorkspace};
 use crate::basis::{interpolate_row, StencilSums, Stencils};
 use crate::error::{Error, Result};
+use crate::mpm::grid::{fill::FixedWidthLoop, Grid};
 use crate::mpm::mapping::{
-    accumulate_lumped_row, diagnose_projection, solve_projection, Mapping, MassMatrix,
+    accumulate_lumped_row, diagnose_projection, running_max, solve_projection, Mapping, MassMatrix,
 };
 
 impl Simulation {
@@ -163,7 +165,8 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
 /// Σ f_p φ_i (thesis §3.2; with the body force at the nodes, m_i g after
 /// the loop). Without `LOADS` (no traction, no gravity at the particles)
 /// the loads are not added: a load whose weights are all zero adds only ±0
-/// to +0, and the other path skips it too.
+/// to +0, and the other path skips it too. The loop itself is
+/// [`MapParticlesToGrid`], compiled once per kind of basis.
 fn map_particles_to_grid<const W: usize, const LOADS: bool>(
     sim: &mut Simulation,
     g: f64,
@@ -173,8 +176,6 @@ fn map_particles_to_grid<const W: usize, const LOADS: bool>(
         .fixed_width_evaluator::<W>()
         .ok_or_else(|| Error::Usage("the fused step on a grid it does not serve".into()))?;
     let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
-    let g_particles = if at_particles { g } else { 0.0 };
-    let counts_crossings = sim.records_diagnostics;
     for v in [
         &mut ws.mass,
         &mut ws.internal_force,
@@ -183,59 +184,101 @@ fn map_particles_to_grid<const W: usize, const LOADS: bool>(
     ] {
         v.fill(0.0);
     }
-    let n = p.len();
-    ws.stencils.resize(n);
-    let Stencils {
-        first,
-        values,
-        gradients,
-        ..
-    } = &mut ws.stencils;
-    let rows = values.as_chunks_mut::<W>().0.iter_mut();
-    let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
-    let (x, mass, stress, volume) = (&p.x[..n], &p.mass[..n], &p.stress[..n], &p.volume[..n]);
-    let traction = &p.traction[..n];
-    let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
-    let mut vectors = [
-        &mut ws.mass[..],
-        &mut ws.internal_force[..],
-        &mut ws.gravity_force[..],
-        &mut ws.traction_force[..],
-    ];
-    let mut sums = StencilSums::<W, 4>::default();
-    for (k, (first, (phi, dphi))) in first[..n].iter_mut().zip(rows).enumerate() {
-        // Evaluated into locals, then stored: the sums below read the
-        // basis from registers, not back from the rows just written.
-        let (mut values, mut gradients) = ([0.0; W], [0.0; W]);
-        *first = evaluator.evaluate(x[k], &mut values, &mut gradients)?;
-        (*phi, *dphi) = (values, gradients);
-        let (phi, dphi) = (&values, &gradients);
-        if counts_crossings && counted_at[k] != x[k] {
-            breaks_before[k] = grid.breaks_at_or_below(x[k]);
-            counted_at[k] = x[k];
-        }
-        sums.move_to(*first, &mut vectors);
-        let [nodal_mass, force, gravity, trac] = &mut sums.sums;
-        let (m, stress_volume) = (mass[k], stress[k] * volume[k]);
-        for a in 0..W {
-            nodal_mass[a] += m * phi[a];
-            force[a] += stress_volume * dphi[a];
-        }
-        if LOADS {
-            let (weight, t) = (m * g_particles, traction[k]);
-            for a in 0..W {
-                gravity[a] += weight * phi[a];
-                trac[a] += t * phi[a];
-            }
-        }
-    }
-    sums.store(&mut vectors);
+    evaluator.run(MapParticlesToGrid::<LOADS> {
+        grid,
+        particles: p,
+        workspace: &mut *ws,
+        weight_per_mass: if at_particles { g } else { 0.0 },
+        counts_crossings: sim.records_diagnostics,
+    })?;
     if !at_particles && g != 0.0 {
         for (f, m) in ws.gravity_force.iter_mut().zip(&ws.mass) {
             *f = m * g;
         }
     }
     Ok(())
+}
+
+/// The particle loop of [`map_particles_to_grid`] and what it reads.
+struct MapParticlesToGrid<'a, const LOADS: bool> {
+    grid: &'a Grid,
+    particles: &'a Particles,
+    workspace: &'a mut StepWorkspace,
+    /// g at the particles (the body force m_p g φ_i), else 0.
+    weight_per_mass: f64,
+    /// Whether the crossing monitor's state is kept (diagnostics on).
+    counts_crossings: bool,
+}
+
+impl<const W: usize, const LOADS: bool> FixedWidthLoop<W> for MapParticlesToGrid<'_, LOADS> {
+    type Output = Result<()>;
+
+    #[inline(always)]
+    fn run(
+        self,
+        evaluate: impl Fn(f64, &mut [f64; W], &mut [f64; W]) -> Result<usize>,
+    ) -> Result<()> {
+        let Self {
+            grid,
+            particles: p,
+            workspace: ws,
+            weight_per_mass,
+            counts_crossings,
+        } = self;
+        let n = p.len();
+        ws.stencils.resize(n);
+        let Stencils {
+            first,
+            values,
+            gradients,
+            ..
+        } = &mut ws.stencils;
+        let rows = values.as_chunks_mut::<W>().0.iter_mut();
+        let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
+        let (x, mass, stress, volume) = (&p.x[..n], &p.mass[..n], &p.stress[..n], &p.volume[..n]);
+        let traction = &p.traction[..n];
+        let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
+        // Mass and internal force in one pair of register sums, the loads
+        // (when there are any) in another: each vector's additions in
+        // particle order, as before.
+        let mut forces = [&mut ws.mass[..], &mut ws.internal_force[..]];
+        let mut loads = [&mut ws.gravity_force[..], &mut ws.traction_force[..]];
+        let (mut force_sums, mut load_sums) = (
+            StencilSums::<W, 2>::default(),
+            StencilSums::<W, 2>::default(),
+        );
+        for (k, (first, (phi, dphi))) in first[..n].iter_mut().zip(rows).enumerate() {
+            // Evaluated into locals, then stored: the sums below read the
+            // basis from registers, not back from the rows just written.
+            let (mut values, mut gradients) = ([0.0; W], [0.0; W]);
+            *first = evaluate(x[k], &mut values, &mut gradients)?;
+            (*phi, *dphi) = (values, gradients);
+            let (phi, dphi) = (&values, &gradients);
+            if counts_crossings && counted_at[k] != x[k] {
+                breaks_before[k] = grid.breaks_at_or_below(x[k]);
+                counted_at[k] = x[k];
+            }
+            force_sums.move_to(*first, &mut forces);
+            let [nodal_mass, force] = &mut force_sums.sums;
+            let (m, stress_volume) = (mass[k], stress[k] * volume[k]);
+            for a in 0..W {
+                nodal_mass[a] += m * phi[a];
+                force[a] += stress_volume * dphi[a];
+            }
+            if LOADS {
+                load_sums.move_to(*first, &mut loads);
+                let [gravity, trac] = &mut load_sums.sums;
+                let (weight, t) = (m * weight_per_mass, traction[k]);
+                for a in 0..W {
+                    gravity[a] += weight * phi[a];
+                    trac[a] += t * phi[a];
+                }
+            }
+        }
+        force_sums.store(&mut forces);
+        load_sums.store(&mut loads);
+        Ok(())
+    }
 }
 
 /// What loop 2 sums over the particles for the projection's record
@@ -287,7 +330,7 @@ fn update_velocities_and_map_momentum<const W: usize>(
         accumulate_lumped_row([pi, ml, mii], phi, m, m * v);
         mass += m;
         momentum += m * v;
-        fastest = fastest.max(v.abs());
+        fastest = running_max(fastest, v.abs());
     }
     sums.store(&mut vectors);
     sim.records_diagnostics.then_some(ParticleTotals {
@@ -362,7 +405,7 @@ fn move_particles<const W: usize, const ENERGY: bool>(
         stress[k] = law(stress[k], young, deps);
         update_volume_density_strain(&mut volume[k], &mut density[k], &mut strain[k], deps);
         let xk = x[k];
-        screen.max_abs_strain = screen.max_abs_strain.max(strain[k].abs());
+        screen.max_abs_strain = running_max(screen.max_abs_strain, strain[k].abs());
         if ENERGY {
             screen.energy += particle_energy(mass[k], velocity[k], stress[k], strain[k], volume[k]);
         }

@@ -269,3 +269,24 @@ fn a_projection_that_reaches_no_node_records_a_diagonal_ratio_of_zero() {
     assert_eq!(record.diagonal_ratio, 0.0);
     assert_eq!(record.grid_mass, 0.0);
 }
+
+use proptest::prelude::*;
+
+proptest! {
+    /// The fused loops and the projection's diagnosis keep their running
+    /// extremes by one comparison (`running_max`, `running_min`); for a
+    /// running value that is not NaN and anything it meets (NaN, ±∞,
+    /// subnormals; zeros of one sign, as |v| and M_ii ≠ 0 are) they are
+    /// `f64::max` and `f64::min` bit for bit.
+    #[test]
+    fn running_extremes_are_f64_max_and_min(
+        running in proptest::num::f64::ANY.prop_filter("not NaN", |r| !r.is_nan()),
+        x in proptest::num::f64::ANY,
+    ) {
+        use hompm::mpm::mapping::{running_max, running_min};
+        // Zeros of opposite signs are the one case f64::max leaves open.
+        prop_assume!(!(running == 0.0 && x == 0.0 && running.is_sign_negative() != x.is_sign_negative()));
+        prop_assert_eq!(running_max(running, x).to_bits(), f64::max(running, x).to_bits());
+        prop_assert_eq!(running_min(running, x).to_bits(), f64::min(running, x).to_bits());
+    }
+}
