@@ -138,8 +138,10 @@ impl LagrangeBasis {
     /// The element k with x_k ≤ x < x_{k+1}; the right end belongs to the last.
     #[inline]
     pub fn element_of(&self, x: f64) -> Result<usize> {
-        finite("evaluation point", x)?;
-        if x < self.a || x > self.b {
+        // One test on the way every point takes: a ≤ x ≤ b is false for a
+        // NaN too; the reason is sorted out only for a point that fails.
+        if !(x >= self.a && x <= self.b) {
+            finite("evaluation point", x)?;
             return Err(Error::OutsideDomain {
                 x,
                 a: self.a,
@@ -208,10 +210,20 @@ impl LagrangeBasis {
         if W != self.order.degree() + 1 {
             return None;
         }
-        let k = match self.element_of(x) {
-            Ok(k) => k,
-            Err(e) => return Some(Err(e)),
-        };
+        Some(self.evaluate_of_width::<W>(x, values, gradients))
+    }
+
+    /// [`LagrangeBasis::evaluate_fixed`] for a `W` the caller has checked
+    /// is the basis' width (degree + 1): no check per point.
+    #[inline(always)]
+    pub fn evaluate_of_width<const W: usize>(
+        &self,
+        x: f64,
+        values: &mut [f64; W],
+        gradients: &mut [f64; W],
+    ) -> Result<usize> {
+        debug_assert_eq!(W, self.order.degree() + 1);
+        let k = self.element_of(x)?;
         let h = self.h;
         let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
         if W == 2 {
@@ -227,7 +239,7 @@ impl LagrangeBasis {
             gradients[1] = (-8.0 * xi + 4.0) / h;
             gradients[2] = (4.0 * xi - 1.0) / h;
         }
-        Some(Ok(self.order.degree() * k))
+        Ok((W - 1) * k)
     }
 }
 

@@ -13,7 +13,7 @@
 //! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`],
 //! [`CompensatedSum`], [`RunDiagnostics`].
 
-use super::mapping::{running_max, Projection};
+use super::mapping::{running_max, running_min, Projection};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -164,11 +164,14 @@ impl RunDiagnostics {
     /// Step 2's lumped masses m_i: the smallest non-zero one, and one more
     /// step with a negative mass if any is (P2, thesis §5.2).
     pub fn record_lumped_masses(&mut self, masses: &[f64]) {
-        let mut negative = false;
+        // The smallest in a local running minimum (no store per node, one
+        // comparison each: `running_min`), then merged by `f64::min`.
+        let (mut negative, mut smallest) = (false, f64::INFINITY);
         for &m in masses.iter().filter(|&&m| m != 0.0) {
             negative |= m < 0.0;
-            self.min_lumped_mass = self.min_lumped_mass.min(m);
+            smallest = running_min(smallest, m);
         }
+        self.min_lumped_mass = self.min_lumped_mass.min(smallest);
         if negative {
             self.negative_mass_steps += 1;
         }

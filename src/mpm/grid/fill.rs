@@ -116,11 +116,11 @@ impl<const W: usize> FixedWidthEvaluator<'_, W> {
             Self::BSpline(kv) => {
                 particle_loop.run(|x, v, g| kv.values_and_gradients_fixed::<W>(x, v, g))
             }
+            // The width was checked with the grid's (fixed_width_evaluator);
+            // the basis by value, so that its fields stay in registers.
             Self::Lagrange(basis) => {
-                particle_loop.run(|x, v, g| match basis.evaluate_fixed::<W>(x, v, g) {
-                    Some(result) => result,
-                    None => basis.evaluate_into(x, v, g),
-                })
+                let basis = basis.clone();
+                particle_loop.run(move |x, v, g| basis.evaluate_of_width::<W>(x, v, g))
             }
         }
     }
