@@ -14,7 +14,7 @@
 //! [`compaction_simulation`], [`compaction_stress_error`], [`compaction_start`], [`COMPACTION_DT`], [`COMPACTION_STEPS`],
 //! [`compaction_dynamic_reference`],
 //! [`TABLE_8_SUBPOINTS`],
-//! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`],
+//! [`SubpointRow`], [`SubpointStudy`], [`subpoint_study`], [`subpoint_study_against`],
 //! [`stress_errors_against_ulfem`].
 
 use super::{bar_errors, BarErrors};
@@ -229,12 +229,10 @@ pub struct CompactionRun {
 
 /// Runs the compaction of TLS paper Table 6 (50 elements, 20 PPC, Δt = 1e-4 s,
 /// 0.5 s) with [`mass_for`] the mapping. Three tables and the report share
-/// these runs, so they are cached per process by (method, mapping).
+/// these runs, so they are cached per process by (method, mapping); a timed
+/// run of [`subpoint_study`] fills the cache too (the same bits).
 pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
-    type Cache = Mutex<HashMap<(Method, Mapping), CompactionRun>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    if let Some(r) = cache
+    if let Some(r) = compaction_cache()
         .lock()
         .ok()
         .and_then(|c| c.get(&(method, mapping)).copied())
@@ -242,10 +240,22 @@ pub fn compaction(method: Method, mapping: Mapping) -> Result<CompactionRun> {
         return Ok(r);
     }
     let run = compaction_uncached(method, mapping)?;
-    if let Ok(mut c) = cache.lock() {
+    remember_compaction(method, mapping, run);
+    Ok(run)
+}
+
+/// The per-process cache of [`compaction`].
+fn compaction_cache() -> &'static Mutex<HashMap<(Method, Mapping), CompactionRun>> {
+    type Cache = Mutex<HashMap<(Method, Mapping), CompactionRun>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// Puts a run of [`compaction_uncached`] into [`compaction`]'s cache.
+fn remember_compaction(method: Method, mapping: Mapping, run: CompactionRun) {
+    if let Ok(mut c) = compaction_cache().lock() {
         c.insert((method, mapping), run);
     }
-    Ok(run)
 }
 
 /// [`compaction`] for every (method, mapping) of `jobs`, spread over the
@@ -399,17 +409,45 @@ pub fn subpoint_study(
     method_for: fn(usize) -> Method,
     repeats: usize,
 ) -> Result<SubpointStudy> {
+    subpoints_against(None, counts, method_for, repeats)
+}
+
+/// [`subpoint_study`] for another rule against the DDMPM-TLS reference
+/// run of `reference`, which is not run again (the same run: its error
+/// has the same bits, its time is that run's).
+pub fn subpoint_study_against(
+    reference: &SubpointStudy,
+    counts: &[usize],
+    method_for: fn(usize) -> Method,
+    repeats: usize,
+) -> Result<SubpointStudy> {
+    let tls = (reference.tls_error, reference.tls_seconds);
+    subpoints_against(Some(tls), counts, method_for, repeats)
+}
+
+/// [`subpoint_study`], with the reference (error, seconds) given or run.
+fn subpoints_against(
+    reference: Option<(f64, f64)>,
+    counts: &[usize],
+    method_for: fn(usize) -> Method,
+    repeats: usize,
+) -> Result<SubpointStudy> {
     let timed = |method: Method, mapping: Mapping| -> Result<(f64, f64)> {
         let mut best = f64::INFINITY;
         let mut error = f64::NAN;
         for _ in 0..repeats.max(1) {
             let start = std::time::Instant::now();
-            error = compaction_uncached(method, mapping)?.stress_error;
+            let run = compaction_uncached(method, mapping)?;
             best = best.min(start.elapsed().as_secs_f64());
+            remember_compaction(method, mapping, run);
+            error = run.stress_error;
         }
         Ok((error, best))
     };
-    let (tls_error, tls_seconds) = timed(Method::DDMPM, Mapping::Tls)?;
+    let (tls_error, tls_seconds) = match reference {
+        Some(r) => r,
+        None => timed(Method::DDMPM, Mapping::Tls)?,
+    };
     let rows = counts
         .iter()
         .map(|&n| {

@@ -68,24 +68,43 @@ fn table_4_3() -> TableSpec {
                 counts must match exactly; the note gives the spread over CG variants that are \
                 equal in exact arithmetic.",
         compute: |_| {
+            use rayon::prelude::*;
             let cols = [16, 32, 64, 128];
-            let rows = grid(5, &cols, |p, n| {
-                Ok(cg_iterations(n, p, CgVariant::Recursive, true)? as f64)
-            })?;
+            // Every (p, 1/h) with its six counts, in parallel; the first
+            // (recursive, assembled) is the table's cell.
+            let variants = [
+                CgVariant::Recursive,
+                CgVariant::TrueResidual,
+                CgVariant::PolakRibiere,
+            ];
+            let cells: Vec<(usize, usize)> = (1..=5).flat_map(|p| cols.map(|n| (p, n))).collect();
+            let counts: Vec<Vec<usize>> = cells
+                .par_iter()
+                .map(|&(p, n)| {
+                    variants
+                        .iter()
+                        .flat_map(|&v| [true, false].map(|assembled| (v, assembled)))
+                        .map(|(v, assembled)| cg_iterations(n, p, v, assembled))
+                        .collect::<Result<_>>()
+                })
+                .collect::<Result<_>>()?;
+            let at = |p: usize, n: usize| {
+                cells
+                    .iter()
+                    .position(|&c| c == (p, n))
+                    .map(|k| &counts[k])
+                    .ok_or_else(|| {
+                        crate::error::Error::InvalidArgument(format!(
+                            "no CG run for p = {p}, 1/h = {n}"
+                        ))
+                    })
+            };
+            let rows = grid(5, &cols, |p, n| Ok(at(p, n)?[0] as f64))?;
             let mut notes = Vec::new();
             for p in 1..=5 {
                 let mut parts = Vec::new();
                 for &n in &cols {
-                    let mut counts = Vec::new();
-                    for v in [
-                        CgVariant::Recursive,
-                        CgVariant::TrueResidual,
-                        CgVariant::PolakRibiere,
-                    ] {
-                        for assembled in [true, false] {
-                            counts.push(cg_iterations(n, p, v, assembled)?);
-                        }
-                    }
+                    let counts = at(p, n)?;
                     let lo = counts.iter().min().copied().unwrap_or(0);
                     let hi = counts.iter().max().copied().unwrap_or(0);
                     parts.push(format!("1/h={n}: {lo}–{hi}"));
@@ -110,28 +129,60 @@ fn table_4_4() -> TableSpec {
                 forward Gauss–Seidel with ν₁ = ν₂ = 8; lumped transfer M_L⁻¹P, P_ij = ∫φ_i^q φ_j^{q−1}; \
                 CG to 1e-4 on p = 1; stop at ‖f − Ma‖/‖f‖ < 1e-8.",
         compute: |options| {
+            use rayon::prelude::*;
             let cols = [8, 16, 32, 64];
-            let rows = grid(5, &cols, |p, n| Ok(pmg_cycles(n, p, PMultigridOptions::default())? as f64))?;
-            let mut notes = Vec::new();
+            // The book's options, then (unless quick) the alternatives of
+            // the notes; every (options, p, 1/h) in parallel, each a count
+            // or the error that stopped it.
+            let mut options_list = vec![PMultigridOptions::default()];
             if !options.quick {
-                for (name, opt) in pmg_alternatives() {
-                    let g = grid(5, &cols, |p, n| {
-                        Ok(match pmg_cycles(n, p, opt) {
-                            Ok(c) => c as f64,
-                            Err(_) => f64::NAN,
-                        })
-                    })?;
-                    let text: Vec<String> = g
-                        .iter()
-                        .map(|(_, r)| {
-                            r.iter()
-                                .map(|v| v.map_or("-".into(), |v| if v.is_nan() { "n/c".into() } else { format!("{v}") }))
-                                .collect::<Vec<String>>()
-                                .join(" ")
-                        })
-                        .collect();
-                    notes.push(format!("{name}: {}", text.join(" | ")));
+                options_list.extend(pmg_alternatives().into_iter().map(|(_, o)| o));
+            }
+            let cells: Vec<(usize, usize, usize)> = (0..options_list.len())
+                .flat_map(|o| (1..=5).flat_map(move |p| cols.map(|n| (o, p, n))))
+                .collect();
+            let cycles: Vec<Result<usize>> = cells
+                .par_iter()
+                .map(|&(o, p, n)| pmg_cycles(n, p, options_list[o]))
+                .collect();
+            let at = |o: usize, p: usize, n: usize| {
+                cells
+                    .iter()
+                    .position(|&c| c == (o, p, n))
+                    .map(|k| &cycles[k])
+                    .ok_or_else(|| {
+                        crate::error::Error::InvalidArgument(format!(
+                            "no p-multigrid run for p = {p}, 1/h = {n}"
+                        ))
+                    })
+            };
+            let rows = grid(5, &cols, |p, n| match at(0, p, n)? {
+                Ok(c) => Ok(*c as f64),
+                Err(e) => Err(e.clone()),
+            })?;
+            let mut notes = Vec::new();
+            for (k, (name, _)) in pmg_alternatives().into_iter().enumerate() {
+                if k + 1 >= options_list.len() {
+                    break;
                 }
+                // A variant that does not converge is "n/c".
+                let g = grid(5, &cols, |p, n| {
+                    Ok(at(k + 1, p, n)?.as_ref().map_or(f64::NAN, |&c| c as f64))
+                })?;
+                let text: Vec<String> = g
+                    .iter()
+                    .map(|(_, r)| {
+                        r.iter()
+                            .map(|v| match v {
+                                None => "-".into(),
+                                Some(v) if v.is_nan() => "n/c".into(),
+                                Some(v) => format!("{v}"),
+                            })
+                            .collect::<Vec<String>>()
+                            .join(" ")
+                    })
+                    .collect();
+                notes.push(format!("{name}: {}", text.join(" | ")));
             }
             Ok(Computed { rows, notes, ..Default::default() })
         },

@@ -22,7 +22,7 @@
 //! Items: [`Source`], [`Published`], [`ToleranceKind`], [`CellTolerance`],
 //! [`ToleranceRules`], [`Tolerance`], [`Status`], [`Entry`],
 //! [`RunOptions`], [`LabelledRow`], [`Computed`], [`Study`], [`TableSpec`], [`TableReport`],
-//! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`LONGEST_TABLES`],
+//! [`registry`], [`ids`], [`find`], [`run`], [`run_many`], [`TABLE_CPU_SECONDS`],
 //! [`effective_tolerance`], [`significant_digits`], [`equal_to_digits`],
 //! [`digits_apply`], [`compare`], [`book`], [`facts`], [`mls`], [`mls_code`], [`mls_convergence`], [`thesis`],
 //! [`tls`].
@@ -391,7 +391,11 @@ pub fn run(spec: &TableSpec, options: &RunOptions) -> Result<TableReport> {
     compare(spec, &published, computed)
 }
 
-/// Runs the given tables in parallel (rayon); `progress` is called after each.
+/// Runs the given tables in parallel; `progress` is called after each.
+/// One worker per rayon thread takes the next table of a longest-first
+/// list ([`TABLE_CPU_SECONDS`]), so that the long serial tables start early
+/// and the short ones fill the cores at the end; the reports come back in
+/// `ids` order, so they do not depend on the scheduling.
 pub fn run_many(
     ids: &[&str],
     options: RunOptions,
@@ -399,28 +403,59 @@ pub fn run_many(
 ) -> Result<Vec<TableReport>> {
     use rayon::prelude::*;
     let specs: Vec<_> = ids.iter().map(|id| find(id)).collect::<Result<_>>()?;
-    // The longest tables start first, so that the others fill the other
-    // core while they run; the reports come back in `ids` order.
     let mut order: Vec<usize> = (0..specs.len()).collect();
-    order.sort_by_key(|&i| !LONGEST_TABLES.contains(&specs[i].id));
-    let mut reports: Vec<(usize, Result<TableReport>)> = order
-        .par_iter()
-        .map(|&i| {
+    order.sort_by(|&a, &b| cpu_seconds(specs[b].id).total_cmp(&cpu_seconds(specs[a].id)));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done: std::sync::Mutex<Vec<(usize, Result<TableReport>)>> =
+        std::sync::Mutex::new(Vec::new());
+    (0..rayon::current_num_threads().max(1))
+        .into_par_iter()
+        .for_each(|_| loop {
+            let k = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let Some(&i) = order.get(k) else { break };
             let spec = &specs[i];
             let t = std::time::Instant::now();
             let r = run(spec, &options);
             progress(spec.id, t.elapsed().as_secs_f64());
-            (i, r)
-        })
-        .collect();
+            if let Ok(mut d) = done.lock() {
+                d.push((i, r));
+            }
+        });
+    let mut reports = done.into_inner().unwrap_or_default();
+    if reports.len() != specs.len() {
+        return Err(Error::LengthMismatch {
+            what: "table reports (one per table run)".into(),
+            expected: specs.len(),
+            got: reports.len(),
+        });
+    }
     reports.sort_by_key(|(i, _)| *i);
     reports.into_iter().map(|(_, r)| r).collect()
 }
 
-/// Tables that take most of `hompm reproduce` (mls-aligned: about two
-/// minutes of its one longest run; mls-convergence-study with `--full`),
-/// started before the others.
-pub const LONGEST_TABLES: [&str; 2] = ["mls-aligned", "mls-convergence-study"];
+/// The processor time (user + system, seconds) of the tables that take
+/// more than a second, each measured alone (`hompm table ID`, release
+/// build, 2 cores, at e1edbc2): the order in which [`run_many`] starts
+/// them. A table not listed counts as 0 s.
+pub const TABLE_CPU_SECONDS: [(&str, f64); 9] = [
+    ("mls-aligned", 138.6),
+    ("mls-convergence-study", 78.5),
+    ("tls-8", 34.7),
+    ("tls-7", 9.7),
+    ("book-4.3", 5.4),
+    ("tls-fig10", 5.3),
+    ("book-4.4", 5.0),
+    ("thesis-7.1", 2.2),
+    ("book-4.5-large", 1.1),
+];
+
+/// A table's entry in [`TABLE_CPU_SECONDS`], or 0.
+fn cpu_seconds(id: &str) -> f64 {
+    TABLE_CPU_SECONDS
+        .iter()
+        .find(|(t, _)| *t == id)
+        .map_or(0.0, |(_, s)| *s)
+}
 
 /// Places computed rows by their labels: an unknown or repeated label, or
 /// a row of the wrong length, is an error; a row not returned stays `None`.
