@@ -38,15 +38,16 @@
 //!
 //! Items: [`Shape`], [`Grid`].
 
+mod dual;
 pub(crate) mod fill;
 use super::conventions::Knots;
 pub use super::method::{Method, MethodFamily, NodeIntegrals, METHOD_FAMILIES};
 use crate::basis::{with_width, Basis1d, Stencils};
 use crate::error::{Error, Result};
 use crate::lagrange::{LagrangeBasis, LagrangeOrder};
-use crate::quadrature::GaussLegendre;
 use crate::spline::bspline::SpanScratch;
 use crate::spline::{KnotVector, NaturalSplines};
+use dual::{dual_domain, DualDomain, SubpointRule};
 use fill::{fill_bspline_stencils, fill_lagrange_stencils};
 
 /// Values and (possibly modified) gradients of the basis at one point, over
@@ -59,35 +60,6 @@ pub struct Shape {
     pub values: Vec<f64>,
     /// ∇φ_i(x), or ∇̄φ_i(x) for DDMPM.
     pub gradients: Vec<f64>,
-}
-
-#[derive(Debug, Clone)]
-struct DualDomain {
-    /// The rule that filled the integrals.
-    rule: NodeIntegrals,
-    /// V_j = ∫ φ_j.
-    node_volume: Vec<f64>,
-    /// g[j] = [∫ φ_j ∇φ_{j−1}, ∫ φ_j ∇φ_j, ∫ φ_j ∇φ_{j+1}].
-    g: Vec<[f64; 3]>,
-}
-
-impl DualDomain {
-    /// Adds one quadrature point x with weight w to V_j and ∫φ_j∇φ_i
-    /// (P1: the two functions of the element of x).
-    fn add_point(&mut self, basis: &LagrangeBasis, x: f64, w: f64) -> Result<()> {
-        let mut phi = [0.0; 2];
-        let mut grad = [0.0; 2];
-        let k = basis.evaluate_into(x, &mut phi, &mut grad)?;
-        for (a_, &phi_j) in phi.iter().enumerate() {
-            let j = k + a_;
-            self.node_volume[j] += w * phi_j;
-            for (b_, &grad_i) in grad.iter().enumerate() {
-                // slot = i − j + 1 with i = k + b_.
-                self.g[j][b_ + 1 - a_] += w * phi_j * grad_i;
-            }
-        }
-        Ok(())
-    }
 }
 
 /// The families of grid bases, held concretely so that the per-particle
@@ -127,24 +99,6 @@ impl std::fmt::Debug for Grid {
             self.basis().domain()
         )
     }
-}
-
-/// The node integrals of DDMPM, TLS paper §3.3: V_j = ∫_Ω φ_j dΩ and
-/// ∫_Ω φ_j ∇φ_i dΩ, exactly by two Gauss points per element.
-fn dual_domain(basis: &LagrangeBasis) -> Result<DualDomain> {
-    let n = basis.num_basis();
-    let mut dual = DualDomain {
-        rule: NodeIntegrals::Exact,
-        node_volume: vec![0.0; n],
-        g: vec![[0.0; 3]; n],
-    };
-    let rule = GaussLegendre::new(2)?;
-    for (c0, c1) in basis.cells() {
-        for q in rule.on_interval(c0, c1) {
-            dual.add_point(basis, q.x, q.weight)?;
-        }
-    }
-    Ok(dual)
 }
 
 impl Grid {
@@ -347,11 +301,11 @@ impl Grid {
             return Ok(());
         };
         // Subpoint s of n sits at x_p + V_p·(t_s − ½), t_s in [0, 1].
-        let (n, position): (usize, fn(usize, usize) -> f64) = match dd.rule {
+        let (n, position) = match dd.rule {
             NodeIntegrals::Exact => return Ok(()),
-            NodeIntegrals::Particles => (1, |_, _| 0.5),
-            NodeIntegrals::Subpoints(n) => (n, |s, n| (s as f64 + 0.5) / n as f64),
-            NodeIntegrals::EndSubpoints(n) => (n, |s, n| s as f64 / (n - 1) as f64),
+            NodeIntegrals::Particles => (1, SubpointRule::Middle),
+            NodeIntegrals::Subpoints(n) => (n, SubpointRule::Midpoints),
+            NodeIntegrals::EndSubpoints(n) => (n, SubpointRule::Ends),
         };
         if positions.len() != volumes.len() {
             return Err(Error::LengthMismatch {
@@ -360,22 +314,7 @@ impl Grid {
                 got: volumes.len(),
             });
         }
-        let (a, b) = basis.domain();
-        dd.node_volume.fill(0.0);
-        dd.g.fill([0.0; 3]);
-        for (&x, &v) in positions.iter().zip(volumes) {
-            crate::error::finite("particle volume", v)?;
-            if !(a..=b).contains(&x) {
-                crate::error::finite("position", x)?;
-                return Err(Error::OutsideDomain { x, a, b });
-            }
-            let w = v / n as f64;
-            for s in 0..n {
-                let offset = v * (position(s, n) - 0.5);
-                dd.add_point(basis, (x + offset).clamp(a, b), w)?;
-            }
-        }
-        Ok(())
+        dual::accumulate_node_integrals(dd, basis, positions, volumes, n, position)
     }
 
     /// The DDMPM node volumes V_j as last evaluated (empty for the other
