@@ -36,7 +36,7 @@
 
 use super::particles::Particles2d;
 pub use super::reconstruction::GaussGrid;
-use super::reconstruction::{storage_order, GaussReconstruction, Reconstruction, ShapeLists};
+use super::reconstruction::{GaussReconstruction, Reconstruction, ShapeLists};
 use crate::error::{Error, Result};
 use crate::reconstruct::mls::{quadratic_spline_weight, MLS_MAX_CONDITION};
 use nalgebra::Matrix3;
@@ -251,7 +251,8 @@ impl MlsShapes {
     }
 
     /// The length of every list, summed from the difference array
-    /// `lengths`, and from them `start` and `end` in [`storage_order`]
+    /// `lengths`, and from them `start` and `end` in
+    /// [`storage_order`](super::reconstruction::storage_order)
     /// (cell by cell, the four points of a cell together). Returns the
     /// number of entries of all lists.
     fn lay_out_lists(&mut self, cells: usize) -> usize {
@@ -269,12 +270,19 @@ impl MlsShapes {
                 self.lengths[gx + side * gy] = along_row + below;
             }
         }
+        // Cell by cell, the four points of a cell together.
         let mut entries = 0;
-        for (gx, gy) in storage_order(cells) {
-            let g = gx + n * gy;
-            self.start[g] = entries;
-            entries += self.lengths[gx + side * gy].max(0) as usize;
-            self.end[g] = entries;
+        for cy in 0..cells {
+            for cx in 0..cells {
+                for gy in [2 * cy, 2 * cy + 1] {
+                    for gx in [2 * cx, 2 * cx + 1] {
+                        let g = gx + n * gy;
+                        self.start[g] = entries;
+                        entries += self.lengths[gx + side * gy].max(0) as usize;
+                        self.end[g] = entries;
+                    }
+                }
+            }
         }
         entries
     }
