@@ -14,8 +14,14 @@
 //!   so A⁻¹B and hence φ are the same; then pᵀ(x_g) = [1, 0, 0] and φ_gp is
 //!   w_p times the first row of A⁻¹ applied to p(x_p);
 //! - the neighbours come from binning the particles by cell (a counting
-//!   sort, O(particles + cells)), and each Gauss point scans only the 4×4
-//!   cells its support can reach.
+//!   sort, O(particles + cells)); the weight is separable, so each particle
+//!   weighs itself once against the Gauss abscissae of each axis (the 1D
+//!   weights w(r_x), w(r_y) of Eq. 17 that are non-zero, a run of
+//!   consecutive abscissae on each axis), and is then appended to the list
+//!   of every Gauss point of the rectangle the two runs span, with
+//!   w = w(r_x) w(r_y) (Eq. 16). The particles are visited in the order of
+//!   their cells (rows, then cells, then particles in index order), so each
+//!   list holds its particles in that order.
 //!
 //! A moment matrix A with κ₁(A) = ‖A‖₁‖A⁻¹‖₁ above
 //! [`crate::reconstruct::mls::MLS_MAX_CONDITION`] (too few particles in the
@@ -55,10 +61,19 @@ pub struct MlsShapes {
     pub end: Vec<usize>,
     bin_start: Vec<usize>,
     bin_particles: Vec<u32>,
-    /// (particle, w, scaled offset) gathered for the four points of a cell.
-    local: [Vec<(u32, f64, [f64; 2])>; 4],
-    /// How many entries of each `local` list are kept.
-    count: [usize; 4],
+    /// The 1D supports of the particles, in the order of their cells.
+    supports: Vec<ParticleSupport>,
+    /// (w, d) of the abscissae of each particle's 1D supports, x then y,
+    /// at `ParticleSupport::at` (w the 1D weight, d the scaled offset).
+    axis_weights: Vec<[f64; 2]>,
+    /// The list lengths, as a 2D difference array over the Gauss points
+    /// ((2·cells + 1)² entries) until `lay_out_lists` sums it.
+    lengths: Vec<isize>,
+    /// The next free entry of each list of the row of cells being gathered.
+    cursor: Vec<usize>,
+    /// (w, scaled offset) of the entries of the row's lists, from the
+    /// row's first entry, aligned with `particle`.
+    local: Vec<(f64, [f64; 2])>,
 }
 
 impl MlsShapes {
@@ -80,6 +95,8 @@ impl MlsShapes {
         let per_point = ((3.0 * support_scale).powi(2) * particles as f64 / (cells * cells) as f64)
             .ceil() as usize
             + 8;
+        // At most 2 (⌈3 s⌉ + 1) abscissae per axis lie within 1.5·s·h.
+        let per_axis = 2 * ((3.0 * support_scale).ceil() as usize + 1);
         Ok(Self {
             support_scale,
             start: vec![0; gauss_points + 1],
@@ -89,8 +106,11 @@ impl MlsShapes {
             end: vec![0; gauss_points],
             bin_start: vec![0; cells * cells + 1],
             bin_particles: vec![0; particles],
-            local: std::array::from_fn(|_| vec![(0, 0.0, [0.0; 2]); 4 * per_point]),
-            count: [0; 4],
+            supports: Vec::with_capacity(particles),
+            axis_weights: Vec::with_capacity(2 * per_axis * particles),
+            lengths: vec![0; (2 * cells + 1) * (2 * cells + 1)],
+            cursor: vec![0; 4 * cells],
+            local: vec![(0.0, [0.0; 2]); 4 * cells * per_point],
         })
     }
 
@@ -121,13 +141,12 @@ impl MlsShapes {
     /// Eq. 14), from the particles' positions `x` and cells `cell_x`,
     /// `cell_y`. Errors for a singular moment matrix.
     ///
-    /// The four Gauss points of a cell share one gathering of candidates
-    /// (the particles of the 5×5 cells around it, which hold every particle
-    /// within 1.5·s·h of any of them when s ≤ 1, and of more cells when s > 1),
-    /// and the weight w(r_x) w(r_y) is separable, so each candidate costs
-    /// at most four 1D weights for the four points. A cell of the border of
-    /// the 5×5 reaches only the points on its side (two, or one at a corner):
-    /// its candidates are weighed and listed for those alone.
+    /// The particles weigh themselves along each axis ([`MlsShapes::weigh`],
+    /// Eq. 17), the list of every point is sized and placed
+    /// ([`MlsShapes::lay_out_lists`]), and then, row of cells by row of
+    /// cells, the lists of the row are filled ([`MlsShapes::gather`],
+    /// Eq. 16) and each point solves its moment system
+    /// ([`MlsShapes::gauss_point`], Eqs. 10 and 14).
     pub fn evaluate(
         &mut self,
         gauss: &GaussGrid,
@@ -137,20 +156,22 @@ impl MlsShapes {
     ) -> Result<()> {
         let cells = gauss.cells;
         self.bin(cell_x, cell_y, cells);
-        self.particle.clear();
+        self.weigh(gauss, x);
+        let entries = self.lay_out_lists(cells);
+        // Every entry is written by `gather`: the old ones need no clearing.
+        self.particle.resize(entries, 0);
         self.phi.clear();
         self.largest_condition = 0.0;
         let n = 2 * cells;
         for cy in 0..cells {
+            self.gather(cells, cy);
+            // The row's first entry, where its `local` starts.
+            let base = self.start[n * 2 * cy];
             for cx in 0..cells {
-                self.gather(gauss, [cx, cy], x);
-                for (j, gy) in [2 * cy, 2 * cy + 1].into_iter().enumerate() {
-                    for (i, gx) in [2 * cx, 2 * cx + 1].into_iter().enumerate() {
-                        let g = gx + n * gy;
-                        self.start[g] = self.particle.len();
+                for gy in [2 * cy, 2 * cy + 1] {
+                    for gx in [2 * cx, 2 * cx + 1] {
                         let xg = [gauss.abscissae[gx], gauss.abscissae[gy]];
-                        self.gauss_point(xg, 2 * j + i)?;
-                        self.end[g] = self.particle.len();
+                        self.gauss_point(xg, gx + n * gy, base)?;
                     }
                 }
             }
@@ -158,103 +179,169 @@ impl MlsShapes {
         Ok(())
     }
 
-    /// Collects, for the four Gauss points of cell (cx, cy), the particles
-    /// with w > 0: `local[q]` holds (particle, w, offset) of point q = 2j + i.
-    fn gather(&mut self, gauss: &GaussGrid, cell: [usize; 2], x: &[[f64; 2]]) {
-        let (h, cells) = (gauss.cell_size, gauss.cells);
-        let scale = 1.0 / (self.support_scale * h);
-        let reach = 1.5 * self.support_scale * h;
-        let gx = [
-            gauss.abscissae[2 * cell[0]],
-            gauss.abscissae[2 * cell[0] + 1],
-        ];
-        let gy = [
-            gauss.abscissae[2 * cell[1]],
-            gauss.abscissae[2 * cell[1] + 1],
-        ];
-        let xr = Self::cell_range(gx[0] - reach, gx[1] + reach, h, cells);
-        let yr = Self::cell_range(gy[0] - reach, gy[1] + reach, h, cells);
-        let candidates: usize = yr
-            .clone()
-            .map(|cy| {
-                self.bin_start[cy * cells + xr.end() + 1] - self.bin_start[cy * cells + xr.start()]
-            })
-            .sum();
-        for l in self.local.iter_mut() {
-            if l.len() < candidates {
-                l.resize(candidates, (0, 0.0, [0.0; 2]));
-            }
-        }
-        self.count = [0; 4];
+    /// How many cells away from its own cell a particle's support reaches:
+    /// the cells of the abscissae within 1.5·s·h of a point of the cell are
+    /// less than 1.5·s + 1 cells away, and 1 % of a cell more covers the
+    /// rounding of the particles' cells.
+    fn reach_in_cells(&self) -> usize {
+        (1.5 * self.support_scale + 1.01).floor() as usize
+    }
+
+    /// Eq. (17) along each axis for every particle, in the order of the
+    /// bins: the run of Gauss abscissae with w(r) > 0 (r = |d|, d = (x_p −
+    /// x_g)/(s h)) and their (w, d), into `supports` and `axis_weights`;
+    /// each particle's rectangle of Gauss points is added to the
+    /// difference array `lengths`.
+    fn weigh(&mut self, gauss: &GaussGrid, x: &[[f64; 2]]) {
+        let cells = gauss.cells;
+        let scale = 1.0 / (self.support_scale * gauss.cell_size);
+        let reach = self.reach_in_cells();
+        // The abscissae of cells c − reach ..= c + reach.
+        let near = |c: usize| 2 * c.saturating_sub(reach)..(2 * (c + reach + 1)).min(2 * cells);
+        let side = 2 * cells + 1;
         let Self {
             bin_start,
             bin_particles,
-            local,
-            count,
+            supports,
+            axis_weights,
+            lengths,
             ..
         } = self;
-        // Cell by cell in the bins' order (rows, then cells, then particles
-        // in index order), so every list keeps the candidates' order; a cell
-        // is offered only to the points whose support it can reach.
-        for cy in yr {
-            let my = Self::reachable(cy, gy, reach, h);
-            for cx in xr.clone() {
-                let mx = Self::reachable(cx, gx, reach, h);
-                let c = cy * cells + cx;
-                let particles = &bin_particles[bin_start[c]..bin_start[c + 1]];
-                let scan = Scan {
-                    x,
-                    gx,
-                    gy,
+        supports.clear();
+        lengths.clear();
+        lengths.resize(side * side, 0);
+        // Room for every abscissa near each particle on both axes.
+        let room = 2 * 2 * (2 * reach + 1) * bin_particles.len();
+        if axis_weights.len() < room {
+            axis_weights.resize(room, [0.0; 2]);
+        }
+        let mut at = 0;
+        for (c, bin) in bin_start.windows(2).enumerate() {
+            let (along_x, along_y) = (near(c % cells), near(c / cells));
+            for &k in &bin_particles[bin[0]..bin[1]] {
+                let [px, py] = x[k as usize];
+                let (fx, lx) = weigh_along(
+                    px,
+                    gauss.abscissae,
+                    along_x.clone(),
                     scale,
-                    local: &mut *local,
-                    count: &mut *count,
-                };
-                macro_rules! masks {
-                    ($(($i:literal, $j:literal)),*) => {
-                        match (mx, my) {
-                            $(($i, $j) => scan.cell::<$i, $j>(particles),)*
-                            _ => {}
-                        }
-                    };
-                }
-                masks!(
-                    (1, 1),
-                    (1, 2),
-                    (1, 3),
-                    (2, 1),
-                    (2, 2),
-                    (2, 3),
-                    (3, 1),
-                    (3, 2),
-                    (3, 3)
+                    &mut axis_weights[at..],
                 );
+                let (fy, ly) = weigh_along(
+                    py,
+                    gauss.abscissae,
+                    along_y.clone(),
+                    scale,
+                    &mut axis_weights[at + lx..],
+                );
+                supports.push(ParticleSupport {
+                    particle: k,
+                    at,
+                    first: [fx, fy],
+                    len: [lx, ly],
+                });
+                at += lx + ly;
+                // The rectangle [fx, fx + lx) × [fy, fy + ly) of points.
+                lengths[fx + side * fy] += 1;
+                lengths[fx + lx + side * fy] -= 1;
+                lengths[fx + side * (fy + ly)] -= 1;
+                lengths[fx + lx + side * (fy + ly)] += 1;
             }
         }
     }
 
-    /// Which of the two points g[0], g[1] of an axis the particles of cell
-    /// c of that axis may lie within `reach` of: bit i for g[i]. The cell
-    /// [c h, (c + 1) h] is widened by h/100, far more than the rounding of
-    /// the particles' cells and of the scaled offsets, so a point left out
-    /// has w = 0 for every particle of the cell.
-    fn reachable(c: usize, g: [f64; 2], reach: f64, h: f64) -> u8 {
-        let (lo, hi) = (c as f64 * h - 0.01 * h, (c + 1) as f64 * h + 0.01 * h);
-        let near = |g: f64| lo < g + reach && hi > g - reach;
-        u8::from(near(g[0])) | (u8::from(near(g[1])) << 1)
+    /// The length of every list, summed from the difference array
+    /// `lengths`, and from them `start` and `end` in
+    /// [`storage_order`](super::reconstruction::storage_order)
+    /// (cell by cell, the four points of a cell together). Returns the
+    /// number of entries of all lists.
+    fn lay_out_lists(&mut self, cells: usize) -> usize {
+        let (n, side) = (2 * cells, 2 * cells + 1);
+        // lengths[g] becomes Σ of the differences at or before g on both axes.
+        for gy in 0..n {
+            let mut along_row = 0;
+            for gx in 0..n {
+                along_row += self.lengths[gx + side * gy];
+                let below = if gy > 0 {
+                    self.lengths[gx + side * (gy - 1)]
+                } else {
+                    0
+                };
+                self.lengths[gx + side * gy] = along_row + below;
+            }
+        }
+        // Cell by cell, the four points of a cell together.
+        let mut entries = 0;
+        for cy in 0..cells {
+            for cx in 0..cells {
+                for gy in [2 * cy, 2 * cy + 1] {
+                    for gx in [2 * cx, 2 * cx + 1] {
+                        let g = gx + n * gy;
+                        self.start[g] = entries;
+                        entries += self.lengths[gx + side * gy].max(0) as usize;
+                        self.end[g] = entries;
+                    }
+                }
+            }
+        }
+        entries
     }
 
-    /// The cells a reach [lo, hi] on one axis touches.
-    fn cell_range(lo: f64, hi: f64, h: f64, cells: usize) -> std::ops::RangeInclusive<usize> {
-        let first = (lo / h).floor().max(0.0) as usize;
-        let last = ((hi / h).floor().max(0.0) as usize).min(cells - 1);
-        first..=last
+    /// MLS paper Eqs. (12) and (16) for the Gauss points of row `cy` of
+    /// cells: appends each particle p whose support reaches the row to the
+    /// list of every point g of the row in its rectangle, with
+    /// w = w(r_x) w(r_y) and the scaled offset d = (x_p − x_g)/(s h). The
+    /// particles come in the order of their cells, so each list keeps the
+    /// order of [`MlsShapes::evaluate`]'s doc.
+    fn gather(&mut self, cells: usize, cy: usize) {
+        let n = 2 * cells;
+        let reach = self.reach_in_cells();
+        let rows = [2 * cy, 2 * cy + 2];
+        // The row's lists are start[g] .. end[g] for g in first_point .. first_point + 2n.
+        let first_point = n * rows[0];
+        let base = self.start[first_point];
+        let row_entries = self.end[first_point + 2 * n - 1] - base;
+        if self.local.len() < row_entries {
+            self.local.resize(row_entries, (0.0, [0.0; 2]));
+        }
+        self.cursor.clear();
+        self.cursor
+            .extend_from_slice(&self.start[first_point..first_point + 2 * n]);
+        let cell_rows = cy.saturating_sub(reach)..(cy + reach + 1).min(cells);
+        let particles =
+            self.bin_start[cell_rows.start * cells]..self.bin_start[cell_rows.end * cells];
+        let Self {
+            supports,
+            axis_weights,
+            cursor,
+            particle,
+            local,
+            ..
+        } = self;
+        // Slices, so that their addresses stay in registers.
+        let (particle, local) = (particle.as_mut_slice(), local.as_mut_slice());
+        for s in &supports[particles] {
+            let along_y = s.first[1].max(rows[0])..(s.first[1] + s.len[1]).min(rows[1]);
+            let weights_x = &axis_weights[s.at..][..s.len[0]];
+            for gy in along_y {
+                let [wy, dy] = axis_weights[s.at + s.len[0] + gy - s.first[1]];
+                let cursors = &mut cursor[n * (gy - rows[0]) + s.first[0]..][..s.len[0]];
+                for (next, &[wx, dx]) in cursors.iter_mut().zip(weights_x) {
+                    let entry = *next;
+                    *next = entry + 1;
+                    particle[entry] = s.particle;
+                    local[entry - base] = (wx * wy, [dx, dy]);
+                }
+            }
+        }
     }
 
-    /// Eqs. (10), (14), (16)–(17) at one Gauss point from its gathered
-    /// particles `local[q]`: accumulates A, inverts it and appends φ_gp.
-    fn gauss_point(&mut self, xg: [f64; 2], q: usize) -> Result<()> {
-        let a = accumulate_moment(&self.local[q][..self.count[q]]);
+    /// Eqs. (10) and (14) at Gauss point g from its gathered entries
+    /// (`local` from the row's first entry `base`): accumulates A, inverts
+    /// it and appends φ_gp.
+    fn gauss_point(&mut self, xg: [f64; 2], g: usize, base: usize) -> Result<()> {
+        let gathered = &self.local[self.start[g] - base..self.end[g] - base];
+        let a = accumulate_moment(gathered);
         // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
         let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
         if kappa.is_finite() {
@@ -263,31 +350,23 @@ impl MlsShapes {
         if kappa > MLS_MAX_CONDITION {
             return Err(Error::SingularMoments {
                 point: xg.to_vec(),
-                points_in_support: self.count[q],
+                points_in_support: gathered.len(),
                 condition_number: kappa,
                 limit: MLS_MAX_CONDITION,
             });
         }
-        let gathered = &self.local[q][..self.count[q]];
-        append_shape_functions(&mut self.particle, &mut self.phi, gathered, z);
+        append_shape_functions(&mut self.phi, gathered, z);
         Ok(())
     }
 }
 
-/// Appends, for each gathered (particle, w, d), the particle and
-/// φ_gp = w (z₀ + z₁ d_x + z₂ d_y) (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and
-/// z the first row of A⁻¹). Two extends, not a push per entry (one
-/// capacity check each), in a function of its own so that z stays in
-/// registers.
+/// Appends, for each gathered (w, d), φ_gp = w (z₀ + z₁ d_x + z₂ d_y)
+/// (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and z the first row of A⁻¹). One
+/// extend, not a push per entry (one capacity check), in a function of its
+/// own so that z stays in registers.
 #[inline(never)]
-fn append_shape_functions(
-    particle: &mut Vec<u32>,
-    phi: &mut Vec<f64>,
-    gathered: &[(u32, f64, [f64; 2])],
-    z: [f64; 3],
-) {
-    particle.extend(gathered.iter().map(|&(k, _, _)| k));
-    let shape = |&(_, w, d): &(u32, f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
+fn append_shape_functions(phi: &mut Vec<f64>, gathered: &[(f64, [f64; 2])], z: [f64; 3]) {
+    let shape = |&(w, d): &(f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
     phi.extend(gathered.iter().map(shape));
 }
 
@@ -323,23 +402,26 @@ impl GaussReconstruction for MlsShapes {
 }
 
 /// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
-/// (particle, w, d) (MLS paper Eq. 10), each entry summed in list order.
+/// (w, d) (MLS paper Eq. 10), each entry summed in list order.
 /// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
 /// w q_i on both sides of the diagonal and are summed once; (1, 2) and
 /// (2, 1) are not the same product and are summed each, as the two lanes
 /// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
 /// registers.
 #[inline(never)]
-fn accumulate_moment(gathered: &[(u32, f64, [f64; 2])]) -> Matrix3<f64> {
+fn accumulate_moment(gathered: &[(f64, [f64; 2])]) -> Matrix3<f64> {
     let mut a00 = 0.0;
     // [A01, A02], [A11, A21], [A12, A22].
     let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-    for &(_, w, d) in gathered {
+    for &(w, d) in gathered {
         let wd = [w * d[0], w * d[1]];
         a00 += w;
-        first = [first[0] + wd[0], first[1] + wd[1]];
-        by_x = [by_x[0] + wd[0] * d[0], by_x[1] + wd[1] * d[0]];
-        by_y = [by_y[0] + wd[0] * d[1], by_y[1] + wd[1] * d[1]];
+        // Lane by lane, which the compiler packs better than pairs.
+        for i in 0..2 {
+            first[i] += wd[i];
+            by_x[i] += wd[i] * d[0];
+            by_y[i] += wd[i] * d[1];
+        }
     }
     #[rustfmt::skip]
     let a = Matrix3::new(
@@ -350,46 +432,45 @@ fn accumulate_moment(gathered: &[(u32, f64, [f64; 2])]) -> Matrix3<f64> {
     a
 }
 
-/// One cell's candidates offered to the points of a cell
-/// ([`Scan::cell`]).
-struct Scan<'a> {
-    x: &'a [[f64; 2]],
-    gx: [f64; 2],
-    gy: [f64; 2],
-    scale: f64,
-    local: &'a mut [Vec<(u32, f64, [f64; 2])>; 4],
-    count: &'a mut [usize; 4],
+/// One particle's 1D supports: along each axis, the first Gauss abscissa
+/// with w(r) > 0 and how many follow it, and where their (w, d) start in
+/// `MlsShapes::axis_weights` (x, then y).
+#[derive(Debug, Clone, Copy, Default)]
+struct ParticleSupport {
+    particle: u32,
+    at: usize,
+    first: [usize; 2],
+    len: [usize; 2],
 }
 
-impl Scan<'_> {
-    /// Appends (particle, w, scaled offset) of each of `particles` to the
-    /// list of every point q = 2j + i with bit i of `MX` and bit j of `MY`
-    /// set, kept where w = w(d_x) w(d_y) > 0 (Eqs. 16–17; a branch-free
-    /// compaction, as about half of the candidates fall outside a support,
-    /// which a branch would mispredict).
-    #[inline(always)]
-    fn cell<const MX: u8, const MY: u8>(self, particles: &[u32]) {
-        let (gx, gy, scale) = (self.gx, self.gy, self.scale);
-        let weight = |on: bool, d: f64| if on { quadratic_spline_weight(d) } else { 0.0 };
-        for &k in particles {
-            let [px, py] = self.x[k as usize];
-            let dx = [(px - gx[0]) * scale, (px - gx[1]) * scale];
-            let dy = [(py - gy[0]) * scale, (py - gy[1]) * scale];
-            let wx = [weight(MX & 1 != 0, dx[0]), weight(MX & 2 != 0, dx[1])];
-            let wy = [weight(MY & 1 != 0, dy[0]), weight(MY & 2 != 0, dy[1])];
-            for j in 0..2 {
-                for i in 0..2 {
-                    if MY >> j & 1 == 0 || MX >> i & 1 == 0 {
-                        continue;
-                    }
-                    let q = 2 * j + i;
-                    let w = wx[i] * wy[j];
-                    self.local[q][self.count[q]] = (k, w, [dx[i], dy[j]]);
-                    self.count[q] += usize::from(w > 0.0);
-                }
-            }
+/// Eq. (17) along one axis for a particle at `p`: writes (w, d) for the
+/// abscissae of `near` with w(|d|) > 0, d = (p − x_g)·`scale`, to the front
+/// of `out`, and returns the first of them and their number. The abscissae
+/// increase, so d decreases and those with |d| < 1.5 (exactly those with
+/// w > 0: below 1.5, 1.5 − |d| is at least 2⁻⁵² and w at least 2⁻¹⁰⁵) are
+/// consecutive.
+fn weigh_along(
+    p: f64,
+    abscissae: &[f64],
+    near: std::ops::Range<usize>,
+    scale: f64,
+    out: &mut [[f64; 2]],
+) -> (usize, usize) {
+    let (mut first, mut len) = (near.start, 0);
+    for (a, &g) in abscissae[near.clone()].iter().enumerate() {
+        let d = (p - g) * scale;
+        if d >= 1.5 {
+            first = near.start + a + 1;
+            continue;
         }
+        // Past the support (or d is NaN): no later abscissa is in it.
+        if d <= -1.5 || d.is_nan() {
+            break;
+        }
+        out[len] = [quadratic_spline_weight(d), d];
+        len += 1;
     }
+    (first, len)
 }
 
 /// The first row of A⁻¹ (= its first column, A being symmetric) and
