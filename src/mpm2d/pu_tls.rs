@@ -79,6 +79,8 @@ use crate::error::{Error, Result};
 use crate::reconstruct::taylor::DegenerateCells;
 use nalgebra::SMatrix;
 
+mod emit;
+
 /// The three open-uniform quadratic B-splines N_c, N_{c+1}, N_{c+2} that are
 /// non-zero on cell c of `cells` unit cells, at t = X − c ∈ [0, 1] (clamped):
 /// the knots 0, 0, 0, 1, …, cells − 1, cells, cells, cells (book Eqs.
@@ -199,8 +201,6 @@ pub struct PuTlsShapes {
     slot_values: Vec<[[f64; 3]; 2]>,
     /// Per slot and patch i + 3j of its cell: [c_pe, B₂, …, B₆].
     coefficients: Vec<[[f64; FITTED + 1]; 9]>,
-    /// φ of the four Gauss points of a cell for the particles of its block.
-    local_phi: Vec<[f64; 4]>,
 }
 
 impl PuTlsShapes {
@@ -253,8 +253,6 @@ impl PuTlsShapes {
             patches: vec![Patch::default(); functions * functions],
             slot_values: vec![[[0.0; 3]; 2]; particles],
             coefficients: vec![[[0.0; FITTED + 1]; 9]; particles],
-            // A block holds at most every particle: never reallocated.
-            local_phi: Vec::with_capacity(particles),
         })
     }
 
@@ -448,82 +446,7 @@ impl PuTlsShapes {
             }
         }
     }
-
-    /// φ_gp of the four Gauss points of cell (cx, cy) over the particles of
-    /// the 5×5 cells around it, appended to the lists; `K` = 1 + the most
-    /// fitted functions.
-    fn emit_cell<const K: usize>(&mut self, gauss: &GaussGrid, cx: usize, cy: usize) {
-        let (n, h) = (self.cells, gauss.cell_size);
-        let (x0, x1) = (cx.saturating_sub(2), (cx + 2).min(n - 1));
-        let (y0, y1) = (cy.saturating_sub(2), (cy + 2).min(n - 1));
-        let bin =
-            |start: &[usize], bx: usize, by: usize| start[bx + n * by]..start[bx + n * by + 1];
-        let mut offset = [0usize; 25];
-        let mut total = 0;
-        for by in y0..=y1 {
-            for bx in x0..=x1 {
-                offset[(bx - x0) + 5 * (by - y0)] = total;
-                total += bin(&self.bin_start, bx, by).len();
-            }
-        }
-        self.local_phi.clear();
-        self.local_phi.resize(total, [0.0; 4]);
-        for j in 0..3 {
-            for i in 0..3 {
-                let (a, b) = (cx + i, cy + j);
-                // N_e(x_g)·(1, ψ₂(x_g), …) at the four points.
-                let factors = QUAD.map(|(qi, qj)| {
-                    let (gx, gy) = (2 * cx + qi, 2 * cy + qj);
-                    let value = self.gauss_values[gx][i] * self.gauss_values[gy][j];
-                    let psi = fitted_functions(
-                        local(gauss.abscissae[gx] / h, a),
-                        local(gauss.abscissae[gy] / h, b),
-                        &self.axis[a],
-                        &self.axis[b],
-                    );
-                    let mut f = [value; K];
-                    for (r, fr) in f.iter_mut().enumerate().skip(1) {
-                        *fr = value * psi[r - 1];
-                    }
-                    f
-                });
-                for by in b.saturating_sub(2)..=b.min(n - 1) {
-                    for bx in a.saturating_sub(2)..=a.min(n - 1) {
-                        let patch = (a - bx) + 3 * (b - by);
-                        let base = offset[(bx - x0) + 5 * (by - y0)];
-                        let slots = bin(&self.bin_start, bx, by);
-                        let out = &mut self.local_phi[base..base + slots.len()];
-                        for (phi, s) in out.iter_mut().zip(slots) {
-                            let cf = &self.coefficients[s][patch];
-                            for (v, f) in phi.iter_mut().zip(&factors) {
-                                *v += (0..K).map(|r| cf[r] * f[r]).sum::<f64>();
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        let ng = 2 * n;
-        let shapes = &mut self.shapes;
-        for (q, (qi, qj)) in QUAD.into_iter().enumerate() {
-            let g = (2 * cx + qi) + ng * (2 * cy + qj);
-            shapes.start[g] = shapes.particle.len();
-            for by in y0..=y1 {
-                for bx in x0..=x1 {
-                    let slots = bin(&self.bin_start, bx, by);
-                    shapes
-                        .particle
-                        .extend_from_slice(&self.bin_particles[slots]);
-                }
-            }
-            shapes.phi.extend(self.local_phi.iter().map(|v| v[q]));
-            shapes.end[g] = shapes.particle.len();
-        }
-    }
 }
-
-/// The four Gauss points of a cell in [`super::reconstruction::storage_order`].
-const QUAD: [(usize, usize); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 impl Reconstruction for PuTlsShapes {
     fn name(&self) -> &'static str {
