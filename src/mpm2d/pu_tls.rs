@@ -185,6 +185,8 @@ pub struct PuTlsShapes {
     cells: usize,
     order: TaylorOrder2d,
     degenerate: DegenerateCells,
+    /// The lists; `phi` keeps the length of the longest lists so far (its
+    /// first `particle.len()` entries are the lists', module `emit`).
     shapes: ShapeBuffers,
     largest_condition: f64,
     repaired: usize,
@@ -499,8 +501,8 @@ impl GaussReconstruction for PuTlsShapes {
         self.axis_moments(gauss);
         self.fit_patches(particles, h)?;
         self.particle_coefficients(particles, h);
+        // `phi` keeps its length (module `emit`): no zeros written again.
         self.shapes.particle.clear();
-        self.shapes.phi.clear();
         let k = self.order.functions();
         for cy in 0..n {
             for cx in 0..n {
@@ -515,6 +517,10 @@ impl GaussReconstruction for PuTlsShapes {
     }
 
     fn lists(&self) -> ShapeLists<'_> {
-        self.shapes.lists()
+        let entries = self.shapes.particle.len();
+        ShapeLists {
+            phi: &self.shapes.phi[..entries],
+            ..self.shapes.lists()
+        }
     }
 }

@@ -56,11 +56,16 @@ impl PuTlsShapes {
         let row = |by: usize| start[x0 + n * by]..start[x1 + 1 + n * by];
         let total: usize = (y0..=y1).map(|by| row(by).len()).sum();
         let shapes = &mut self.shapes;
-        let first = shapes.phi.len();
-        // Within the capacity of `new`: never reallocated.
-        shapes.phi.resize(first + 4 * total, 0.0);
+        // `phi` is as long as the longest lists have been, overwritten from
+        // the start at every evaluation; the lists are its first
+        // `particle.len()` entries. It grows (zeros, within the capacity of
+        // `new`: never reallocated) only past that length.
+        let first = shapes.particle.len();
+        if shapes.phi.len() < first + 4 * total {
+            shapes.phi.resize(first + 4 * total, 0.0);
+        }
         // The four lists of the cell's points, one after the other.
-        let (out0, rest) = shapes.phi[first..].split_at_mut(total);
+        let (out0, rest) = shapes.phi[first..first + 4 * total].split_at_mut(total);
         let (out1, rest) = rest.split_at_mut(total);
         let (out2, out3) = rest.split_at_mut(total);
         let mut index = 0;
