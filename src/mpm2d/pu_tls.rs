@@ -176,6 +176,21 @@ impl Patch {
             f64::INFINITY
         }
     }
+
+    /// B = w D⁻¹ψ̂ − share·U on the leading `M` fitted functions (the `M`
+    /// kept), into `out[1..=M]`.
+    fn coefficients<const M: usize>(
+        &self,
+        psi: &[f64; FITTED],
+        w: f64,
+        share: f64,
+        out: &mut [f64; FITTED + 1],
+    ) {
+        for r in 0..M {
+            let q: f64 = (0..M).map(|t| self.inverse[r][t] * psi[t]).sum();
+            out[1 + r] = w * q - share * self.u[r];
+        }
+    }
 }
 
 /// The PU-TLS shape functions at the Gauss points (module doc), with every
@@ -324,39 +339,12 @@ impl PuTlsShapes {
     /// The sums D and Σ w ψ̂ of every patch, then its D⁻¹ and U, or its
     /// reduction (module doc, "Degenerate patches").
     fn fit_patches(&mut self, particles: &Particles2d, h: f64) -> Result<()> {
-        let n = self.cells;
-        let nf = n + 2;
         let m = self.order.functions() - 1;
         self.patches.iter_mut().for_each(|p| *p = Patch::default());
-        for c in 0..n * n {
-            let (cx, cy) = (c % n, c / n);
-            for s in self.bin_start[c]..self.bin_start[c + 1] {
-                let [x, y] = particles.x[self.bin_particles[s] as usize];
-                let (big_x, big_y) = (x / h, y / h);
-                let vx = open_quadratic_on_cell(n, cx, big_x - cx as f64);
-                let vy = open_quadratic_on_cell(n, cy, big_y - cy as f64);
-                self.slot_values[s] = [vx, vy];
-                for (j, wy) in vy.iter().enumerate() {
-                    for (i, wx) in vx.iter().enumerate() {
-                        let (a, b) = (cx + i, cy + j);
-                        let w = wx * wy;
-                        let psi = fitted_functions(
-                            local(big_x, a),
-                            local(big_y, b),
-                            &self.axis[a],
-                            &self.axis[b],
-                        );
-                        let p = &mut self.patches[a + nf * b];
-                        for r in 0..m {
-                            p.g[r] += w * psi[r];
-                            for q in r..m {
-                                p.d[r][q] += w * psi[r] * psi[q];
-                            }
-                        }
-                        p.count += usize::from(w > 0.0);
-                    }
-                }
-            }
+        match m {
+            0 => self.patch_sums::<0>(particles, h),
+            2 => self.patch_sums::<2>(particles, h),
+            _ => self.patch_sums::<FITTED>(particles, h),
         }
         for e in 0..self.patches.len() {
             let p = &mut self.patches[e];
@@ -387,6 +375,43 @@ impl PuTlsShapes {
             self.repaired += usize::from(order < self.order);
         }
         Ok(())
+    }
+
+    /// The sums D and Σ w ψ̂ of every patch over its particles, on the
+    /// leading `M` fitted functions, and each slot's 1D values.
+    fn patch_sums<const M: usize>(&mut self, particles: &Particles2d, h: f64) {
+        let n = self.cells;
+        let nf = n + 2;
+        for c in 0..n * n {
+            let (cx, cy) = (c % n, c / n);
+            for s in self.bin_start[c]..self.bin_start[c + 1] {
+                let [x, y] = particles.x[self.bin_particles[s] as usize];
+                let (big_x, big_y) = (x / h, y / h);
+                let vx = open_quadratic_on_cell(n, cx, big_x - cx as f64);
+                let vy = open_quadratic_on_cell(n, cy, big_y - cy as f64);
+                self.slot_values[s] = [vx, vy];
+                for (j, wy) in vy.iter().enumerate() {
+                    for (i, wx) in vx.iter().enumerate() {
+                        let (a, b) = (cx + i, cy + j);
+                        let w = wx * wy;
+                        let psi = fitted_functions(
+                            local(big_x, a),
+                            local(big_y, b),
+                            &self.axis[a],
+                            &self.axis[b],
+                        );
+                        let p = &mut self.patches[a + nf * b];
+                        for r in 0..M {
+                            p.g[r] += w * psi[r];
+                            for q in r..M {
+                                p.d[r][q] += w * psi[r] * psi[q];
+                            }
+                        }
+                        p.count += usize::from(w > 0.0);
+                    }
+                }
+            }
+        }
     }
 
     /// `Error::SingularCell` for patch e: the B-spline's indices and its
@@ -437,9 +462,9 @@ impl PuTlsShapes {
                                 &self.axis[a],
                                 &self.axis[b],
                             );
-                            for r in 0..p.fitted {
-                                let q: f64 = (0..p.fitted).map(|t| p.inverse[r][t] * psi[t]).sum();
-                                out[1 + r] = w * q - share * p.u[r];
+                            match p.fitted {
+                                2 => p.coefficients::<2>(&psi, w, share, &mut out),
+                                _ => p.coefficients::<FITTED>(&psi, w, share, &mut out),
                             }
                         }
                         self.coefficients[s][i + 3 * j] = out;
