@@ -81,6 +81,9 @@ pub struct Grid {
     boundaries: Vec<f64>,
     /// The sorted points where a basis gradient jumps.
     breaks: Vec<f64>,
+    /// −∞, the breaks, +∞: particle k lies between `fenced_breaks[n]` and
+    /// `fenced_breaks[n + 1]` when n breaks lie at or below it.
+    fenced_breaks: Vec<f64>,
     /// cells/(b − a): turns a position into a guess of its cell.
     cells_per_length: f64,
     /// The node spacing h ([`Grid::cell_size`]).
@@ -182,6 +185,7 @@ impl Grid {
             cells,
             boundaries: Vec::new(),
             breaks: Vec::new(),
+            fenced_breaks: Vec::new(),
             cells_per_length: 0.0,
             spacing: 0.0,
             knots: Knots::Open,
@@ -194,6 +198,10 @@ impl Grid {
             .chain(spans.iter().map(|c| c.1))
             .collect();
         grid.breaks = grid.basis().gradient_breaks();
+        grid.fenced_breaks = std::iter::once(f64::NEG_INFINITY)
+            .chain(grid.breaks.iter().copied())
+            .chain([f64::INFINITY])
+            .collect();
         if let Method::Ddmpm { node_integrals } = method {
             match node_integrals {
                 NodeIntegrals::Subpoints(0) => {
@@ -374,10 +382,20 @@ impl Grid {
     }
 
     /// Whether exactly `n` gradient breaks lie at or below x: the check that
-    /// a particle is still between the same two breaks, two comparisons.
+    /// a particle is still between the same two breaks, b_n ≤ x < b_{n+1}
+    /// with the breaks fenced by −∞ and +∞ (two comparisons, no test for the
+    /// ends). False for a NaN x and for x = +∞, whose count
+    /// [`Grid::breaks_at_or_below`] then finds.
+    #[inline(always)]
     pub fn breaks_at_or_below_is(&self, n: usize, x: f64) -> bool {
-        let br = &self.breaks;
-        n <= br.len() && (n == 0 || br[n - 1] <= x) && (n == br.len() || br[n] > x)
+        match self
+            .fenced_breaks
+            .get(n..)
+            .and_then(|f| f.first_chunk::<2>())
+        {
+            Some(&[below, above]) => below <= x && x < above,
+            None => false,
+        }
     }
 
     /// The grid crossings of a particle that moved to x from where

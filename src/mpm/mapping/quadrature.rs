@@ -172,3 +172,20 @@ pub(crate) fn accumulate_lumped_row<const W: usize>(
         diagonal[a] += rho_w * fa * fa;
     }
 }
+
+/// [`accumulate_lumped_row`] without the lumped mass, for a basis whose
+/// M^L_i is the nodal mass bit for bit (P1, the fused 1D step):
+/// p_i += (m_p v_p) φ_i and M_ii += m_p φ_i² (book Eq. 4.10).
+#[inline(always)]
+pub(crate) fn accumulate_momentum_and_diagonal_row<const W: usize>(
+    sums: [&mut [f64; W]; 2],
+    values: &[f64; W],
+    rho_w: f64,
+    mom_w: f64,
+) {
+    let [momentum, diagonal] = sums;
+    for (a, &fa) in values.iter().enumerate() {
+        momentum[a] += mom_w * fa;
+        diagonal[a] += rho_w * fa * fa;
+    }
+}

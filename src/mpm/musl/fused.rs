@@ -43,7 +43,8 @@ use crate::basis::{interpolate_row, StencilSums, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::grid::{fill::FixedWidthLoop, Grid};
 use crate::mpm::mapping::{
-    accumulate_lumped_row, diagnose_projection, running_max, solve_projection, Mapping, MassMatrix,
+    accumulate_lumped_row, accumulate_momentum_and_diagonal_row, diagnose_projection, running_max,
+    solve_projection, Mapping, MassMatrix,
 };
 
 impl Simulation {
@@ -128,7 +129,11 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
     }
     sim.nodal_acceleration()?;
     sim.apply_acceleration_conditions();
-    let totals = update_velocities_and_map_momentum::<W>(sim, dt);
+    let totals = if lumped_mass_is_nodal_mass(&sim.grid) {
+        update_velocities_and_map_momentum::<W, true>(sim, dt)
+    } else {
+        update_velocities_and_map_momentum::<W, false>(sim, dt)
+    };
     let mapping = &mut sim.workspace.mapping;
     let iterations = solve_projection(None, MassMatrix::Lumped, mapping)?;
     let projection = diagnose_projection(None, iterations, mapping);
@@ -292,52 +297,101 @@ struct ParticleTotals {
     fastest_particle_speed: f64,
 }
 
+/// Whether the lumped mass of the projection, M^L_i = Σ_p m_p φ_i Σ_j φ_j
+/// (book Eq. 4.10), is loop 1's nodal mass m_i = Σ_p m_p φ_i bit for bit:
+/// on P1 elements φ = (fl(1 − ξ), ξ), and fl(fl(1 − ξ) + ξ) = 1 for every
+/// ξ in [0, 1] (for ξ ≥ ½, 1 − ξ is exact; for ξ < ½, fl(1 − ξ) = 1 − ξ + δ
+/// with |δ| ≤ 2⁻⁵⁴, and 1 + δ rounds to 1, a tie going to the even 1), so
+/// each m_p φ_i · 1 is m_p φ_i, added in the same particle order from +0.
+/// B-splines of degree 1 sum their Cox–de Boor values, which need not give
+/// exactly 1, and keep the sum.
+fn lumped_mass_is_nodal_mass(grid: &Grid) -> bool {
+    grid.plain_lagrange()
+        .is_some_and(|l| l.order().degree() == 1)
+}
+
 /// Loop 2: v_p ← v_p + Δt Σ φ_i a_i (book Eq. 4.9), then the projection's
 /// momentum p_i = Σ m_p v_p φ_i, lumped mass M^L_i = Σ m_p φ_i Σ_j φ_j and
-/// diagonal Σ m_p φ_i² (Eq. 4.10), and the particles' totals.
-fn update_velocities_and_map_momentum<const W: usize>(
+/// diagonal Σ m_p φ_i² (Eq. 4.10), and the particles' totals. With
+/// `MASS_IS_LUMPED` ([`lumped_mass_is_nodal_mass`]) M^L is loop 1's nodal
+/// mass, copied, and only p_i and the diagonal are summed.
+fn update_velocities_and_map_momentum<const W: usize, const MASS_IS_LUMPED: bool>(
     sim: &mut Simulation,
     dt: f64,
 ) -> Option<ParticleTotals> {
     let (p, ws) = (&mut sim.particles, &mut sim.workspace);
     let n = sim.grid.num_dofs();
     let mapping = &mut ws.mapping;
-    for v in [
-        &mut mapping.momentum,
-        &mut mapping.lumped,
-        &mut mapping.diagonal,
-    ] {
+    for v in [&mut mapping.momentum, &mut mapping.diagonal] {
         v.clear();
         v.resize(n, 0.0);
     }
-    let mut vectors = [
-        &mut mapping.momentum[..],
-        &mut mapping.lumped[..],
-        &mut mapping.diagonal[..],
-    ];
-    let Stencils { first, values, .. } = &ws.stencils;
-    let acceleration = &ws.acceleration;
-    let mut sums = StencilSums::<W, 3>::default();
+    mapping.lumped.clear();
+    let (velocity, mass) = (&mut p.velocity[..], &p.mass[..]);
+    let on_grid = (&ws.stencils, &ws.acceleration[..]);
+    let totals = if MASS_IS_LUMPED {
+        mapping.lumped.extend_from_slice(&ws.mass);
+        let vectors = [&mut mapping.momentum[..], &mut mapping.diagonal[..]];
+        velocity_loop::<W, 2>(
+            velocity,
+            mass,
+            on_grid,
+            dt,
+            vectors,
+            |[pi, mii], phi, m, mv| accumulate_momentum_and_diagonal_row([pi, mii], phi, m, mv),
+        )
+    } else {
+        mapping.lumped.resize(n, 0.0);
+        let vectors = [
+            &mut mapping.momentum[..],
+            &mut mapping.lumped[..],
+            &mut mapping.diagonal[..],
+        ];
+        velocity_loop::<W, 3>(
+            velocity,
+            mass,
+            on_grid,
+            dt,
+            vectors,
+            |[pi, ml, mii], phi, m, mv| accumulate_lumped_row([pi, ml, mii], phi, m, mv),
+        )
+    };
+    sim.records_diagnostics.then_some(totals)
+}
+
+/// The particle loop of [`update_velocities_and_map_momentum`]: Eq. 4.9
+/// for each particle, then `row` adds its share of Eq. 4.10 to the `N`
+/// nodal sums of its stencil, and the totals are summed.
+#[inline(always)]
+fn velocity_loop<const W: usize, const N: usize>(
+    velocities: &mut [f64],
+    masses: &[f64],
+    (stencils, acceleration): (&Stencils, &[f64]),
+    dt: f64,
+    mut vectors: [&mut [f64]; N],
+    row: impl Fn([&mut [f64; W]; N], &[f64; W], f64, f64),
+) -> ParticleTotals {
+    let Stencils { first, values, .. } = stencils;
+    let mut sums = StencilSums::<W, N>::default();
     // Rust's f64 sums start from −0.0 (Particles::total_mass, total_momentum).
     let (mut mass, mut momentum, mut fastest) = (-0.0, -0.0, 0.0f64);
     let rows = values.as_chunks::<W>().0.iter();
-    let particles = p.velocity.iter_mut().zip(&p.mass);
+    let particles = velocities.iter_mut().zip(masses);
     for ((velocity, &m), (&f, phi)) in particles.zip(first.iter().zip(rows)) {
         let v = flip_velocity(*velocity, dt, interpolate_row(phi, &acceleration[f..f + W]));
         *velocity = v;
         sums.move_to(f, &mut vectors);
-        let [pi, ml, mii] = &mut sums.sums;
-        accumulate_lumped_row([pi, ml, mii], phi, m, m * v);
+        row(sums.sums.each_mut(), phi, m, m * v);
         mass += m;
         momentum += m * v;
         fastest = running_max(fastest, v.abs());
     }
     sums.store(&mut vectors);
-    sim.records_diagnostics.then_some(ParticleTotals {
+    ParticleTotals {
         mass,
         momentum,
         fastest_particle_speed: fastest,
-    })
+    }
 }
 
 /// What loop 3 finds for the monitors and the physical check.

@@ -108,6 +108,60 @@ fn the_fused_step_computes_the_bits_of_the_step_pass_by_pass_under_loads_and_law
     }
 }
 
+/// Gravity at the nodes, f_i = m_i g (the other codes' convention,
+/// `BodyForceAt::Nodes`), fused and pass by pass on the gravity column with
+/// P1 and quadratic B-splines: the same bits, and the body force is there
+/// (the particles fall further than under half of it).
+#[test]
+fn the_fused_step_computes_the_bits_of_the_passes_with_gravity_at_the_nodes() {
+    use hompm::mpm::conventions::BodyForceAt;
+    for method in [Method::Mpm, Method::Bsmpm { degree: 2 }] {
+        let at_nodes = |s: &mut Simulation| s.settings.conventions.body_force = BodyForceAt::Nodes;
+        let mut fused = column_of("thesis-table-4.3", method, 8);
+        let mut passes = column_of("thesis-table-4.3", method, 8);
+        at_nodes(&mut fused);
+        at_nodes(&mut passes);
+        assert!(fused.step_is_fused(), "{method:?}");
+        assert_same_bits(&mut fused, &mut passes, 1e-4, 300);
+        let sag: f64 = fused.particles.displacement.iter().sum();
+        assert!(sag < 0.0, "{method:?}: the column does not sag ({sag})");
+    }
+}
+
+/// The crossing monitor counts from where a particle was, also when
+/// something moved it between two steps (a user, an oracle's planted
+/// state): the fused step recounts the breaks below a particle it did not
+/// move itself, as the pass per equation does; the same crossings.
+#[test]
+fn the_fused_step_counts_the_crossings_of_particles_moved_between_steps() {
+    let mut fused = bar("thesis-table-4.1", Method::Mpm, 16);
+    let mut passes = bar("thesis-table-4.1", Method::Mpm, 16);
+    assert_same_bits(&mut fused, &mut passes, 1e-5, 20);
+    let (h, (lo, hi)) = (fused.grid.cell_size(), fused.grid.domain());
+    let mut moved_across = 0;
+    for sim in [&mut fused, &mut passes] {
+        // Inner particles moved by ±0.3 cells, across a break for some.
+        moved_across = 0;
+        for (k, x) in sim.particles.x.iter_mut().enumerate() {
+            if *x > lo + h && *x < hi - h {
+                let before = sim.grid.breaks_at_or_below(*x);
+                *x += 0.3 * h * ((k % 3) as f64 - 1.0);
+                moved_across += sim.grid.breaks_at_or_below(*x).abs_diff(before);
+            }
+        }
+    }
+    // Those moves are not the step's crossings: a count from the stale
+    // positions would include them.
+    assert!(moved_across > 0);
+    let before = fused.diagnostics.grid_crossings;
+    assert_same_bits(&mut fused, &mut passes, 1e-5, 20);
+    assert_eq!(
+        fused.diagnostics.grid_crossings,
+        passes.diagnostics.grid_crossings
+    );
+    assert!(fused.diagnostics.grid_crossings < before + moved_across);
+}
+
 /// With the diagnostics off the fused step records nothing either, and the
 /// particles still agree with the pass-by-pass step.
 #[test]
