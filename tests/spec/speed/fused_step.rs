@@ -343,4 +343,26 @@ proptest! {
         prop_assert_eq!(running_max(running, x).to_bits(), f64::max(running, x).to_bits());
         prop_assert_eq!(running_min(running, x).to_bits(), f64::min(running, x).to_bits());
     }
+
+    /// The fused step takes P1's lumped mass M^L_i = Σ m_p φ_i Σ_j φ_j as
+    /// the nodal mass m_i = Σ m_p φ_i: it needs Σ_j φ_j = 1 exactly, i.e.
+    /// fl(fl(1 − ξ) + ξ) = 1, for the shape functions P1 elements evaluate,
+    /// at any point of any mesh (and for ξ itself anywhere in [0, 1],
+    /// subnormals and the ties at 2⁻⁵⁴ included).
+    #[test]
+    fn p1_shape_functions_sum_to_exactly_one(
+        xi in prop_oneof![0.0..=1.0f64, (0u64..=1u64 << 62).prop_map(|b| f64::from_bits(b).min(1.0))],
+        a in -1e3..1e3f64,
+        length in 1e-6..1e4f64,
+        elements in 1usize..5000,
+        t in 0.0..=1.0f64,
+    ) {
+        use hompm::lagrange::{LagrangeBasis, LagrangeOrder};
+        prop_assert_eq!((1.0 - xi) + xi, 1.0);
+        let basis = LagrangeBasis::new(a, a + length, elements, LagrangeOrder::Linear).unwrap();
+        let x = (a + t * length).min(a + length);
+        let (mut values, mut gradients) = ([0.0; 2], [0.0; 2]);
+        basis.evaluate_of_width::<2>(x, &mut values, &mut gradients).unwrap();
+        prop_assert_eq!(values[0] + values[1], 1.0, "x = {}", x);
+    }
 }
