@@ -540,3 +540,42 @@ fn a_spline_mapping_sorts_every_particle_of_the_step_whatever_the_workspace_was_
     };
     assert_eq!(velocity(5), velocity(p.len()));
 }
+
+/// `Grid::fill_stencils` at every stencil width, 2 (P1) to 6 (B-splines of
+/// degree 5, whose width the step dispatches at run time): each point's
+/// row and first function are `Grid::evaluate`'s at that point (book
+/// Eqs. 4.5–4.6), for points across the whole domain.
+#[test]
+fn fill_stencils_writes_each_point_s_basis_at_every_width() {
+    use hompm::spline::bspline::SpanScratch;
+    for method in [
+        Method::Mpm,
+        Method::MpmP2,
+        Method::Bsmpm { degree: 2 },
+        Method::Bsmpm { degree: 3 },
+        Method::Bsmpm { degree: 4 },
+        Method::Bsmpm { degree: 5 },
+    ] {
+        let grid = Grid::new(method, -0.5, 2.0, 7).unwrap();
+        let w = grid.stencil_width();
+        let xs: Vec<f64> = (0..=40).map(|k| -0.5 + 2.5 * k as f64 / 40.0).collect();
+        let mut scratch = SpanScratch::default();
+        let mut stencils = grid.stencils(0);
+        grid.fill_stencils(&xs, |x| *x, &mut stencils, &mut scratch)
+            .unwrap();
+        for (k, &x) in xs.iter().enumerate() {
+            let (mut values, mut gradients) = (vec![0.0; w], vec![0.0; w]);
+            let first = grid
+                .evaluate(x, &mut scratch, &mut values, &mut gradients)
+                .unwrap();
+            assert_eq!(stencils.first[k], first, "{method:?} at {x}");
+            assert_eq!(stencils.values_of(k), &values[..], "{method:?} at {x}");
+            assert_eq!(
+                stencils.gradients_of(k),
+                &gradients[..],
+                "{method:?} at {x}"
+            );
+            assert!(values.iter().any(|&v| v > 0.0));
+        }
+    }
+}

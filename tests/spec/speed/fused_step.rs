@@ -173,13 +173,15 @@ fn the_fused_step_without_diagnostics_moves_the_particles_as_the_passes_do() {
 }
 
 /// A step that fails fails the same way fused and pass by pass: a particle
-/// thrown out of the grid (`ParticleLeftGrid`) and one with a NaN stress
-/// (`NonPhysicalParticle`), with the same error, step and particle.
+/// thrown out of the grid (`ParticleLeftGrid`), one with a NaN stress and
+/// one with a zero volume (`NonPhysicalParticle`: the screen asks V_p > 0,
+/// not ≥), with the same error, step and particle.
 #[test]
 fn the_fused_step_fails_where_and_as_the_step_pass_by_pass_fails() {
-    let planted: [fn(&mut Simulation); 2] = [
+    let planted: [fn(&mut Simulation); 3] = [
         |sim| sim.particles.velocity[5] = 1e7,
         |sim| sim.particles.stress[9] = f64::NAN,
+        |sim| sim.particles.volume[7] = 0.0,
     ];
     for plant in planted {
         let mut fused = bar("thesis-table-4.1", Method::Mpm, 16);
