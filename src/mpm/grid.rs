@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::lagrange::{LagrangeBasis, LagrangeOrder};
 use crate::spline::bspline::SpanScratch;
 use crate::spline::{KnotVector, NaturalSplines};
-use dual::{dual_domain, DualDomain, SubpointRule};
+use dual::{dual_domain, DualDomain};
 use fill::{fill_bspline_stencils, fill_lagrange_stencils};
 
 /// Values and (possibly modified) gradients of the basis at one point, over
@@ -222,7 +222,7 @@ impl Grid {
                 unreachable!("DDMPM is built on P1 Lagrange functions above");
             };
             let mut dual = dual_domain(basis)?;
-            dual.rule = node_integrals;
+            dual.set_rule(node_integrals);
             grid.dual = Some(dual);
         }
         Ok(grid)
@@ -308,13 +308,9 @@ impl Grid {
         let (GridBasis::Lagrange(basis), Some(dd)) = (&self.basis, &mut self.dual) else {
             return Ok(());
         };
-        // Subpoint s of n sits at x_p + V_p·(t_s − ½), t_s in [0, 1].
-        let (n, position) = match dd.rule {
-            NodeIntegrals::Exact => return Ok(()),
-            NodeIntegrals::Particles => (1, SubpointRule::Middle),
-            NodeIntegrals::Subpoints(n) => (n, SubpointRule::Midpoints),
-            NodeIntegrals::EndSubpoints(n) => (n, SubpointRule::Ends),
-        };
+        if dd.rule == NodeIntegrals::Exact {
+            return Ok(());
+        }
         if positions.len() != volumes.len() {
             return Err(Error::LengthMismatch {
                 what: "volumes (one per position)".into(),
@@ -322,7 +318,8 @@ impl Grid {
                 got: volumes.len(),
             });
         }
-        dual::accumulate_node_integrals(dd, basis, positions, volumes, n, position)
+        // Subpoint s of n sits at x_p + V_p·(t_s − ½), t_s in [0, 1].
+        dual::accumulate_node_integrals(dd, basis, positions, volumes)
     }
 
     /// The DDMPM node volumes V_j as last evaluated (empty for the other

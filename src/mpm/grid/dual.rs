@@ -27,6 +27,9 @@ pub(super) struct DualDomain {
     pub(super) node_volume: Vec<f64>,
     /// g[j] = [∫ φ_j ∇φ_{j−1}, ∫ φ_j ∇φ_j, ∫ φ_j ∇φ_{j+1}].
     pub(super) g: Vec<[f64; 3]>,
+    /// t_s − ½ for each of the rule's n subpoints (none for the exact
+    /// rule), computed once with the rule ([`DualDomain::set_rule`]).
+    subpoint_offsets: Vec<f64>,
 }
 
 impl DualDomain {
@@ -56,6 +59,7 @@ pub(super) fn dual_domain(basis: &LagrangeBasis) -> Result<DualDomain> {
         rule: NodeIntegrals::Exact,
         node_volume: vec![0.0; n],
         g: vec![[0.0; 3]; n],
+        subpoint_offsets: Vec::new(),
     };
     let rule = GaussLegendre::new(2)?;
     for (c0, c1) in basis.cells() {
@@ -90,38 +94,48 @@ impl SubpointRule {
     }
 }
 
-/// V_j and ∫φ_j∇φ_i by n subpoints per particle, each of weight V_p/n, at
-/// x_p + V_p (t_s − ½) clamped to the grid (TLS paper §3.3, §6.2). The
-/// rule's branch is taken once, outside the loop.
+impl DualDomain {
+    /// Takes `rule` for the node integrals and computes its subpoints'
+    /// offsets t_s − ½ (TLS paper §6.2): each quotient t_s once here, not
+    /// once per particle and step.
+    pub(super) fn set_rule(&mut self, rule: NodeIntegrals) {
+        let (n, position) = match rule {
+            NodeIntegrals::Exact => (0, SubpointRule::Middle),
+            NodeIntegrals::Particles => (1, SubpointRule::Middle),
+            NodeIntegrals::Subpoints(n) => (n, SubpointRule::Midpoints),
+            NodeIntegrals::EndSubpoints(n) => (n, SubpointRule::Ends),
+        };
+        self.rule = rule;
+        self.subpoint_offsets = (0..n).map(|s| position.position(s, n) - 0.5).collect();
+    }
+}
+
+/// V_j and ∫φ_j∇φ_i by the rule's n subpoints per particle, each of weight
+/// V_p/n, at x_p + V_p (t_s − ½) clamped to the grid (TLS paper §3.3,
+/// §6.2). Not for the exact rule, which has no subpoints.
 pub(super) fn accumulate_node_integrals(
     dd: &mut DualDomain,
     basis: &LagrangeBasis,
     positions: &[f64],
     volumes: &[f64],
-    n: usize,
-    rule: SubpointRule,
 ) -> Result<()> {
-    match rule {
-        SubpointRule::Middle => accumulate(dd, basis, positions, volumes, n, |_| 0.5),
-        SubpointRule::Midpoints => accumulate(dd, basis, positions, volumes, n, |s| {
-            SubpointRule::Midpoints.position(s, n)
-        }),
-        SubpointRule::Ends => accumulate(dd, basis, positions, volumes, n, |s| {
-            SubpointRule::Ends.position(s, n)
-        }),
-    }
+    // Taken out for the loop, which writes the sums into `dd`.
+    let offsets = std::mem::take(&mut dd.subpoint_offsets);
+    let summed = accumulate(dd, basis, positions, volumes, &offsets);
+    dd.subpoint_offsets = offsets;
+    summed
 }
 
-/// [`accumulate_node_integrals`] with t_s = `position(s)`.
+/// [`accumulate_node_integrals`] with t_s − ½ = `offsets[s]`.
 #[inline(always)]
 fn accumulate(
     dd: &mut DualDomain,
     basis: &LagrangeBasis,
     positions: &[f64],
     volumes: &[f64],
-    n: usize,
-    position: impl Fn(usize) -> f64,
+    offsets: &[f64],
 ) -> Result<()> {
+    let n = offsets.len();
     let (a, b) = basis.domain();
     dd.node_volume.fill(0.0);
     dd.g.fill([0.0; 3]);
@@ -134,8 +148,8 @@ fn accumulate(
             return Err(Error::OutsideDomain { x, a, b });
         }
         let w = v / n as f64;
-        for s in 0..n {
-            let offset = v * (position(s) - 0.5);
+        for &t in offsets {
+            let offset = v * t;
             let at = (x + offset).clamp(a, b);
             if !linear {
                 // Only P1 has a dual domain; any other basis takes the
