@@ -66,6 +66,7 @@
 //! Items: [`TLS_2D_MAX_CONDITION`], [`TaylorOrder2d`], [`TlsVariant`],
 //! [`BasisRule`], [`TaylorBasis2d`], [`TlsShapes`].
 
+use super::lu::try_inverse_lu;
 use super::particles::Particles2d;
 use super::reconstruction::{
     GaussGrid, GaussReconstruction, Reconstruction, ShapeBuffers, ShapeLists,
@@ -357,6 +358,21 @@ impl TlsShapes {
     }
 }
 
+/// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M}
+/// (TLS paper Eq. 13's normal matrix), accumulated particle by particle.
+fn normal_matrix<const M: usize>(rows: &[[f64; 6]], skip: usize) -> [[f64; M]; M] {
+    let mut d = [[0.0; M]; M];
+    for row in rows {
+        let r = &row[skip..skip + M];
+        for (d_i, r_i) in d.iter_mut().zip(r) {
+            for (d_ij, r_j) in d_i.iter_mut().zip(r) {
+                *d_ij += r_i * r_j;
+            }
+        }
+    }
+    d
+}
+
 /// z_q = D⁻¹ ψ̂(x_q) for the four Gauss points and κ₁(D), with
 /// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M};
 /// `None` if D cannot be inverted or κ is not finite.
@@ -365,19 +381,16 @@ fn normal_solve<const M: usize>(
     skip: usize,
     at: &[[f64; 6]; 4],
 ) -> Option<([[f64; 6]; 4], f64)> {
-    let mut d = SMatrix::<f64, M, M>::zeros();
-    for row in rows {
-        let r = &row[skip..skip + M];
-        for j in 0..M {
-            for i in 0..M {
-                d[(i, j)] += r[i] * r[j];
-            }
-        }
-    }
-    let inverse = d.try_inverse()?;
-    let norm1 = |m: &SMatrix<f64, M, M>| {
+    let d = normal_matrix::<M>(rows, skip);
+    let inverse = if M >= 5 {
+        try_inverse_lu(&d)?
+    } else {
+        let inverse = SMatrix::<f64, M, M>::from_fn(|i, j| d[i][j]).try_inverse()?;
+        std::array::from_fn(|i| std::array::from_fn(|j| inverse[(i, j)]))
+    };
+    let norm1 = |m: &[[f64; M]; M]| {
         (0..M)
-            .map(|j| (0..M).map(|i| m[(i, j)].abs()).sum::<f64>())
+            .map(|j| (0..M).map(|i| m[i][j].abs()).sum::<f64>())
             .fold(0.0, f64::max)
     };
     let kappa = norm1(&d) * norm1(&inverse);
@@ -387,7 +400,7 @@ fn normal_solve<const M: usize>(
     let mut z = [[0.0; 6]; 4];
     for (zq, psi) in z.iter_mut().zip(at) {
         for i in 0..M {
-            zq[skip + i] = (0..M).map(|j| inverse[(i, j)] * psi[skip + j]).sum();
+            zq[skip + i] = (0..M).map(|j| inverse[i][j] * psi[skip + j]).sum();
         }
     }
     // Conservative TLS (skip = 1): the four Gauss points have equal
