@@ -225,6 +225,9 @@ pub struct TlsShapes {
     bins: CellBins,
     /// ψ(x_p) of the particles of the cell being fitted.
     rows: Vec<[f64; 6]>,
+    /// V_p/|Ω_e| of the same particles (the conservative correction's
+    /// weights, divided once per particle rather than once per Gauss point).
+    shares: Vec<f64>,
 }
 
 /// The result of one cell's fit: z_g = D⁻¹ψ̂(x_g) for its four Gauss
@@ -274,6 +277,7 @@ impl TlsShapes {
             repaired: 0,
             bins: CellBins::default(),
             rows: Vec::new(),
+            shares: Vec::new(),
         })
     }
 
@@ -472,6 +476,11 @@ impl GaussReconstruction for TlsShapes {
                     self.repaired += usize::from(s.order < self.order);
                 }
                 let area = basis.area();
+                self.shares.clear();
+                if self.variant == TlsVariant::Conservative {
+                    self.shares
+                        .extend(members.iter().map(|&k| particles.volume[k] / area));
+                }
                 for (q, (i, j)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
                     let g = (2 * cx + i) + ng * (2 * cy + j);
                     let first = self.shapes.particle.len();
@@ -489,8 +498,10 @@ impl GaussReconstruction for TlsShapes {
                         let sum = self.shapes.phi[first..].iter().fold(0.0, |s, r| s + r);
                         if self.variant == TlsVariant::Conservative {
                             let rest = 1.0 - sum;
-                            for (phi, &k) in self.shapes.phi[first..].iter_mut().zip(members) {
-                                *phi += particles.volume[k] / area * rest;
+                            for (phi, share) in
+                                self.shapes.phi[first..].iter_mut().zip(&self.shares)
+                            {
+                                *phi += share * rest;
                             }
                         }
                     }
