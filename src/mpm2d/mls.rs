@@ -304,9 +304,13 @@ impl MlsShapes {
         if self.local.len() < row_entries {
             self.local.resize(row_entries, (0.0, [0.0; 2]));
         }
+        // The cursors count from the row's first entry `base`.
         self.cursor.clear();
-        self.cursor
-            .extend_from_slice(&self.start[first_point..first_point + 2 * n]);
+        self.cursor.extend(
+            self.start[first_point..first_point + 2 * n]
+                .iter()
+                .map(|&s| s - base),
+        );
         let cell_rows = cy.saturating_sub(reach)..(cy + reach + 1).min(cells);
         let particles =
             self.bin_start[cell_rows.start * cells]..self.bin_start[cell_rows.end * cells];
@@ -318,19 +322,25 @@ impl MlsShapes {
             local,
             ..
         } = self;
-        // Slices, so that their addresses stay in registers.
-        let (particle, local) = (particle.as_mut_slice(), local.as_mut_slice());
+        // Slices, so that their addresses stay in registers; of one length,
+        // so that one bounds check covers both.
+        let (particle, local) = (
+            &mut particle[base..][..row_entries],
+            &mut local[..row_entries],
+        );
         for s in &supports[particles] {
             let along_y = s.first[1].max(rows[0])..(s.first[1] + s.len[1]).min(rows[1]);
             let weights_x = &axis_weights[s.at..][..s.len[0]];
+            // Read once: the stores below could alias it for the compiler.
+            let p = s.particle;
             for gy in along_y {
                 let [wy, dy] = axis_weights[s.at + s.len[0] + gy - s.first[1]];
                 let cursors = &mut cursor[n * (gy - rows[0]) + s.first[0]..][..s.len[0]];
                 for (next, &[wx, dx]) in cursors.iter_mut().zip(weights_x) {
                     let entry = *next;
                     *next = entry + 1;
-                    particle[entry] = s.particle;
-                    local[entry - base] = (wx * wy, [dx, dy]);
+                    particle[entry] = p;
+                    local[entry] = (wx * wy, [dx, dy]);
                 }
             }
         }
