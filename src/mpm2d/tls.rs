@@ -379,7 +379,11 @@ fn normal_matrix<const M: usize>(rows: &[[f64; 6]], skip: usize) -> [[f64; M]; M
 
 /// z_q = D⁻¹ ψ̂(x_q) for the four Gauss points and κ₁(D), with
 /// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M};
-/// `None` if D cannot be inverted or κ is not finite.
+/// `None` if D cannot be inverted or κ is not finite. Not inlined, so that
+/// its per-cell code compiles alike whatever code surrounds it (issue #39:
+/// inlined, it varied by ~35 instructions per particle-step with changes
+/// elsewhere in the crate).
+#[inline(never)]
 fn normal_solve<const M: usize>(
     rows: &[[f64; 6]],
     skip: usize,
