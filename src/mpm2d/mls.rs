@@ -67,7 +67,7 @@ pub struct MlsShapes {
     /// at `ParticleSupport::at` (w the 1D weight, d the scaled offset).
     axis_weights: Vec<[f64; 2]>,
     /// The list lengths, as a 2D difference array over the Gauss points
-    /// ((2·cells + 1)² entries) until `lay_out_lists` sums it.
+    /// ((2·cells + 1)² entries) until `lay_out_row` sums it, row by row.
     lengths: Vec<isize>,
     /// The next free entry of each list of the row of cells being gathered.
     cursor: Vec<usize>,
@@ -141,12 +141,15 @@ impl MlsShapes {
     /// Eq. 14), from the particles' positions `x` and cells `cell_x`,
     /// `cell_y`. Errors for a singular moment matrix.
     ///
-    /// The particles weigh themselves along each axis ([`MlsShapes::weigh`],
-    /// Eq. 17), the list of every point is sized and placed
-    /// ([`MlsShapes::lay_out_lists`]), and then, row of cells by row of
-    /// cells, the lists of the row are filled ([`MlsShapes::gather`],
-    /// Eq. 16) and each point solves its moment system
-    /// ([`MlsShapes::gauss_point`], Eqs. 10 and 14).
+    /// Row of cells by row of cells: the particles of the rows within reach
+    /// weigh themselves along each axis ([`MlsShapes::weigh_row`], Eq. 17),
+    /// the list of every point of the row is sized and placed
+    /// ([`MlsShapes::lay_out_row`]), the lists of the row are filled
+    /// ([`MlsShapes::gather`], Eq. 16) and each point solves its moment
+    /// system ([`MlsShapes::gauss_point`], Eqs. 10 and 14). The lists are
+    /// laid out as before the rows were interleaved (all weighed, then all
+    /// placed): row-major over the cells, so a row's places depend only on
+    /// the rows before it.
     pub fn evaluate(
         &mut self,
         gauss: &GaussGrid,
@@ -156,14 +159,26 @@ impl MlsShapes {
     ) -> Result<()> {
         let cells = gauss.cells;
         self.bin(cell_x, cell_y, cells);
-        self.weigh(gauss, x);
-        let entries = self.lay_out_lists(cells);
-        // Every entry is written by `gather`: the old ones need no clearing.
-        self.particle.resize(entries, 0);
+        self.start_weighing(cells);
         self.phi.clear();
         self.largest_condition = 0.0;
         let n = 2 * cells;
+        let reach = self.reach_in_cells();
+        let (mut weighed, mut at, mut entries) = (0, 0, 0);
         for cy in 0..cells {
+            // The rows of cells within reach are weighed just before the
+            // row that first needs them, so that their supports are still
+            // in the cache when `gather` reads them.
+            while weighed < (cy + reach + 1).min(cells) {
+                at = self.weigh_row(gauss, x, weighed, at);
+                weighed += 1;
+            }
+            entries = self.lay_out_row(cells, cy, entries);
+            // Every entry is written by `gather`: the old ones need no
+            // clearing, and the list grows only past the last step's length.
+            if self.particle.len() < entries {
+                self.particle.resize(entries, 0);
+            }
             self.gather(cells, cy);
             // The row's first entry, where its `local` starts.
             let base = self.start[n * 2 * cy];
@@ -176,6 +191,8 @@ impl MlsShapes {
                 }
             }
         }
+        // Longer only if a step before held more entries.
+        self.particle.truncate(entries);
         Ok(())
     }
 
@@ -187,12 +204,28 @@ impl MlsShapes {
         (1.5 * self.support_scale + 1.01).floor() as usize
     }
 
-    /// Eq. (17) along each axis for every particle, in the order of the
-    /// bins: the run of Gauss abscissae with w(r) > 0 (r = |d|, d = (x_p −
-    /// x_g)/(s h)) and their (w, d), into `supports` and `axis_weights`;
-    /// each particle's rectangle of Gauss points is added to the
+    /// Clears the supports and the difference array `lengths`, and makes
+    /// room in `axis_weights` for every abscissa near each particle on both
+    /// axes, before the rows of cells are weighed ([`MlsShapes::weigh_row`]).
+    fn start_weighing(&mut self, cells: usize) {
+        let side = 2 * cells + 1;
+        let reach = self.reach_in_cells();
+        self.supports.clear();
+        self.lengths.clear();
+        self.lengths.resize(side * side, 0);
+        let room = 2 * 2 * (2 * reach + 1) * self.bin_particles.len();
+        if self.axis_weights.len() < room {
+            self.axis_weights.resize(room, [0.0; 2]);
+        }
+    }
+
+    /// Eq. (17) along each axis for every particle of row `r` of cells, in
+    /// the order of the bins: the run of Gauss abscissae with w(r) > 0
+    /// (r = |d|, d = (x_p − x_g)/(s h)) and their (w, d), into `supports`
+    /// and `axis_weights` from entry `at` on (returned: the next free
+    /// entry); each particle's rectangle of Gauss points is added to the
     /// difference array `lengths`.
-    fn weigh(&mut self, gauss: &GaussGrid, x: &[[f64; 2]]) {
+    fn weigh_row(&mut self, gauss: &GaussGrid, x: &[[f64; 2]], r: usize, mut at: usize) -> usize {
         let cells = gauss.cells;
         let scale = 1.0 / (self.support_scale * gauss.cell_size);
         let reach = self.reach_in_cells();
@@ -207,18 +240,11 @@ impl MlsShapes {
             lengths,
             ..
         } = self;
-        supports.clear();
-        lengths.clear();
-        lengths.resize(side * side, 0);
-        // Room for every abscissa near each particle on both axes.
-        let room = 2 * 2 * (2 * reach + 1) * bin_particles.len();
-        if axis_weights.len() < room {
-            axis_weights.resize(room, [0.0; 2]);
-        }
-        let mut at = 0;
-        for (c, bin) in bin_start.windows(2).enumerate() {
-            let (along_x, along_y) = (near(c % cells), near(c / cells));
-            for &k in &bin_particles[bin[0]..bin[1]] {
+        let along_y = near(r);
+        for cx in 0..cells {
+            let c = cx + cells * r;
+            let along_x = near(cx);
+            for &k in &bin_particles[bin_start[c]..bin_start[c + 1]] {
                 let [px, py] = x[k as usize];
                 let (fx, lx) = weigh_along(
                     px,
@@ -248,17 +274,21 @@ impl MlsShapes {
                 lengths[fx + lx + side * (fy + ly)] += 1;
             }
         }
+        at
     }
 
-    /// The length of every list, summed from the difference array
-    /// `lengths`, and from them `start` and `end` in
+    /// The lengths of the lists of the Gauss points of row `cy` of cells
+    /// (rows 2·cy and 2·cy + 1 of points), summed from the difference
+    /// array `lengths` (final once every row of cells within reach of them
+    /// is weighed), and from them `start` and `end` in
     /// [`storage_order`](super::reconstruction::storage_order)
-    /// (cell by cell, the four points of a cell together). Returns the
-    /// number of entries of all lists.
-    fn lay_out_lists(&mut self, cells: usize) -> usize {
+    /// (cell by cell, the four points of a cell together), from entry
+    /// `entries` on. Returns the number of entries of the lists of rows
+    /// 0 ..= cy.
+    fn lay_out_row(&mut self, cells: usize, cy: usize, mut entries: usize) -> usize {
         let (n, side) = (2 * cells, 2 * cells + 1);
         // lengths[g] becomes Σ of the differences at or before g on both axes.
-        for gy in 0..n {
+        for gy in [2 * cy, 2 * cy + 1] {
             let mut along_row = 0;
             for gx in 0..n {
                 along_row += self.lengths[gx + side * gy];
@@ -271,16 +301,13 @@ impl MlsShapes {
             }
         }
         // Cell by cell, the four points of a cell together.
-        let mut entries = 0;
-        for cy in 0..cells {
-            for cx in 0..cells {
-                for gy in [2 * cy, 2 * cy + 1] {
-                    for gx in [2 * cx, 2 * cx + 1] {
-                        let g = gx + n * gy;
-                        self.start[g] = entries;
-                        entries += self.lengths[gx + side * gy].max(0) as usize;
-                        self.end[g] = entries;
-                    }
+        for cx in 0..cells {
+            for gy in [2 * cy, 2 * cy + 1] {
+                for gx in [2 * cx, 2 * cx + 1] {
+                    let g = gx + n * gy;
+                    self.start[g] = entries;
+                    entries += self.lengths[gx + side * gy].max(0) as usize;
+                    self.end[g] = entries;
                 }
             }
         }
@@ -304,9 +331,13 @@ impl MlsShapes {
         if self.local.len() < row_entries {
             self.local.resize(row_entries, (0.0, [0.0; 2]));
         }
+        // The cursors count from the row's first entry `base`.
         self.cursor.clear();
-        self.cursor
-            .extend_from_slice(&self.start[first_point..first_point + 2 * n]);
+        self.cursor.extend(
+            self.start[first_point..first_point + 2 * n]
+                .iter()
+                .map(|&s| s - base),
+        );
         let cell_rows = cy.saturating_sub(reach)..(cy + reach + 1).min(cells);
         let particles =
             self.bin_start[cell_rows.start * cells]..self.bin_start[cell_rows.end * cells];
@@ -318,19 +349,25 @@ impl MlsShapes {
             local,
             ..
         } = self;
-        // Slices, so that their addresses stay in registers.
-        let (particle, local) = (particle.as_mut_slice(), local.as_mut_slice());
+        // Slices, so that their addresses stay in registers; of one length,
+        // so that one bounds check covers both.
+        let (particle, local) = (
+            &mut particle[base..][..row_entries],
+            &mut local[..row_entries],
+        );
         for s in &supports[particles] {
             let along_y = s.first[1].max(rows[0])..(s.first[1] + s.len[1]).min(rows[1]);
             let weights_x = &axis_weights[s.at..][..s.len[0]];
+            // Read once: the stores below could alias it for the compiler.
+            let p = s.particle;
             for gy in along_y {
                 let [wy, dy] = axis_weights[s.at + s.len[0] + gy - s.first[1]];
                 let cursors = &mut cursor[n * (gy - rows[0]) + s.first[0]..][..s.len[0]];
                 for (next, &[wx, dx]) in cursors.iter_mut().zip(weights_x) {
                     let entry = *next;
                     *next = entry + 1;
-                    particle[entry] = s.particle;
-                    local[entry - base] = (wx * wy, [dx, dy]);
+                    particle[entry] = p;
+                    local[entry] = (wx * wy, [dx, dy]);
                 }
             }
         }

@@ -4,8 +4,8 @@
 //! the unit square, as far as the MLS paper's aligned vibration needs and no
 //! further: MLS paper Eqs. (4)–(5) (the tensor-product basis, [`grid`]),
 //! (10)–(17) at the Gauss points ([`mls`]), the TLS paper's §5.2–5.5 on
-//! rectangular cells ([`tls`]) and hompm's partition-of-unity blend of it
-//! ([`pu_tls`]), all behind one interface
+//! rectangular cells ([`tls`], its normal matrices inverted by [`lu`]) and
+//! hompm's partition-of-unity blend of it ([`pu_tls`]), all behind one interface
 //! ([`reconstruction`]) and registered as mappings ([`mapping`]),
 //! (18)–(37) (one step, [`step`], its phases in [`phases`], its buffers in
 //! [`workspace`]), watched by the 1D run's stability monitor ([`monitor`]),
@@ -17,6 +17,7 @@
 //! B-splines), and the 2D functions are products of two 1D stencils.
 
 pub mod grid;
+pub mod lu;
 pub mod mapping;
 pub mod material;
 pub mod mls;

@@ -66,6 +66,7 @@
 //! Items: [`TLS_2D_MAX_CONDITION`], [`TaylorOrder2d`], [`TlsVariant`],
 //! [`BasisRule`], [`TaylorBasis2d`], [`TlsShapes`].
 
+use super::lu::try_inverse_lu;
 use super::particles::Particles2d;
 use super::reconstruction::{
     GaussGrid, GaussReconstruction, Reconstruction, ShapeBuffers, ShapeLists,
@@ -224,6 +225,9 @@ pub struct TlsShapes {
     bins: CellBins,
     /// ψ(x_p) of the particles of the cell being fitted.
     rows: Vec<[f64; 6]>,
+    /// V_p/|Ω_e| of the same particles (the conservative correction's
+    /// weights, divided once per particle rather than once per Gauss point).
+    shares: Vec<f64>,
 }
 
 /// The result of one cell's fit: z_g = D⁻¹ψ̂(x_g) for its four Gauss
@@ -273,6 +277,7 @@ impl TlsShapes {
             repaired: 0,
             bins: CellBins::default(),
             rows: Vec::new(),
+            shares: Vec::new(),
         })
     }
 
@@ -357,27 +362,43 @@ impl TlsShapes {
     }
 }
 
+/// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M}
+/// (TLS paper Eq. 13's normal matrix), accumulated particle by particle.
+fn normal_matrix<const M: usize>(rows: &[[f64; 6]], skip: usize) -> [[f64; M]; M] {
+    let mut d = [[0.0; M]; M];
+    for row in rows {
+        let r = &row[skip..skip + M];
+        for (d_i, r_i) in d.iter_mut().zip(r) {
+            for (d_ij, r_j) in d_i.iter_mut().zip(r) {
+                *d_ij += r_i * r_j;
+            }
+        }
+    }
+    d
+}
+
 /// z_q = D⁻¹ ψ̂(x_q) for the four Gauss points and κ₁(D), with
 /// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M};
-/// `None` if D cannot be inverted or κ is not finite.
+/// `None` if D cannot be inverted or κ is not finite. Not inlined, so that
+/// its per-cell code compiles alike whatever code surrounds it (issue #39:
+/// inlined, it varied by ~35 instructions per particle-step with changes
+/// elsewhere in the crate).
+#[inline(never)]
 fn normal_solve<const M: usize>(
     rows: &[[f64; 6]],
     skip: usize,
     at: &[[f64; 6]; 4],
 ) -> Option<([[f64; 6]; 4], f64)> {
-    let mut d = SMatrix::<f64, M, M>::zeros();
-    for row in rows {
-        let r = &row[skip..skip + M];
-        for j in 0..M {
-            for i in 0..M {
-                d[(i, j)] += r[i] * r[j];
-            }
-        }
-    }
-    let inverse = d.try_inverse()?;
-    let norm1 = |m: &SMatrix<f64, M, M>| {
+    let d = normal_matrix::<M>(rows, skip);
+    let inverse = if M >= 5 {
+        try_inverse_lu(&d)?
+    } else {
+        let inverse = SMatrix::<f64, M, M>::from_fn(|i, j| d[i][j]).try_inverse()?;
+        std::array::from_fn(|i| std::array::from_fn(|j| inverse[(i, j)]))
+    };
+    let norm1 = |m: &[[f64; M]; M]| {
         (0..M)
-            .map(|j| (0..M).map(|i| m[(i, j)].abs()).sum::<f64>())
+            .map(|j| (0..M).map(|i| m[i][j].abs()).sum::<f64>())
             .fold(0.0, f64::max)
     };
     let kappa = norm1(&d) * norm1(&inverse);
@@ -387,7 +408,7 @@ fn normal_solve<const M: usize>(
     let mut z = [[0.0; 6]; 4];
     for (zq, psi) in z.iter_mut().zip(at) {
         for i in 0..M {
-            zq[skip + i] = (0..M).map(|j| inverse[(i, j)] * psi[skip + j]).sum();
+            zq[skip + i] = (0..M).map(|j| inverse[i][j] * psi[skip + j]).sum();
         }
     }
     // Conservative TLS (skip = 1): the four Gauss points have equal
@@ -459,6 +480,11 @@ impl GaussReconstruction for TlsShapes {
                     self.repaired += usize::from(s.order < self.order);
                 }
                 let area = basis.area();
+                self.shares.clear();
+                if self.variant == TlsVariant::Conservative {
+                    self.shares
+                        .extend(members.iter().map(|&k| particles.volume[k] / area));
+                }
                 for (q, (i, j)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
                     let g = (2 * cx + i) + ng * (2 * cy + j);
                     let first = self.shapes.particle.len();
@@ -476,8 +502,10 @@ impl GaussReconstruction for TlsShapes {
                         let sum = self.shapes.phi[first..].iter().fold(0.0, |s, r| s + r);
                         if self.variant == TlsVariant::Conservative {
                             let rest = 1.0 - sum;
-                            for (phi, &k) in self.shapes.phi[first..].iter_mut().zip(members) {
-                                *phi += particles.volume[k] / area * rest;
+                            for (phi, share) in
+                                self.shapes.phi[first..].iter_mut().zip(&self.shares)
+                            {
+                                *phi += share * rest;
                             }
                         }
                     }

@@ -1,6 +1,7 @@
 //! Issue #39: the lean steps that hompm's speed is measured against
 //! compute bit for bit what hompm's step computes, so a ratio of their
-//! times is a ratio of the same work.
+//! times is a ratio of the same work; and the fixed-size inverse of the
+//! TLS normal matrix gives nalgebra's bits (small_lu.rs).
 
 mod fused_step;
 mod lean_2d;
@@ -11,4 +12,5 @@ mod mpm2d;
 #[path = "../../../benches/lean/p1.rs"]
 #[allow(dead_code)]
 mod p1;
+mod small_lu;
 mod step_2d;
