@@ -7,6 +7,7 @@
 //! small-integer matrices whose columns tie for the pivot or vanish.
 
 use hompm::mpm2d::lu::try_inverse_lu;
+use hompm::mpm2d::tls::TaylorBasis2d;
 use nalgebra::SMatrix;
 use proptest::prelude::*;
 
@@ -33,23 +34,13 @@ fn assert_same<const M: usize>(d: &[[f64; M]; M]) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-/// The 2D quadratic Taylor basis ψ₂ … ψ₆ (or ψ₁ … ψ₆) at (ξ, η).
-fn taylor_row(xi: f64, eta: f64) -> [f64; 6] {
-    [
-        1.0,
-        xi,
-        eta,
-        0.5 * (xi * xi - 1.0 / 3.0),
-        xi * eta,
-        0.5 * (eta * eta - 1.0 / 3.0),
-    ]
-}
-
 /// D = Σ_p ψ̂(x_p)ψ̂(x_p)ᵀ over the M functions from `skip` on.
 fn normal_matrix<const M: usize>(points: &[(f64, f64)], skip: usize) -> [[f64; M]; M] {
+    // The cell [−1, 1]²: ψ̂ at a point is ψ̂ at its (ξ, η), the basis TLS fits.
+    let cell = TaylorBasis2d::new([-1.0, -1.0], [1.0, 1.0]).unwrap();
     let mut d = [[0.0; M]; M];
     for &(xi, eta) in points {
-        let r = taylor_row(xi, eta);
+        let r = cell.evaluate([xi, eta]);
         for i in 0..M {
             for j in 0..M {
                 d[i][j] += r[skip + i] * r[skip + j];
