@@ -338,7 +338,7 @@ fn update_velocities_and_map_momentum<const W: usize, const MASS_IS_LUMPED: bool
             on_grid,
             dt,
             vectors,
-            |[pi, mii], phi, m, mv| accumulate_momentum_and_diagonal_row([pi, mii], phi, m, mv),
+            accumulate_momentum_and_diagonal_row::<W>,
         )
     } else {
         mapping.lumped.resize(n, 0.0);
@@ -353,7 +353,7 @@ fn update_velocities_and_map_momentum<const W: usize, const MASS_IS_LUMPED: bool
             on_grid,
             dt,
             vectors,
-            |[pi, ml, mii], phi, m, mv| accumulate_lumped_row([pi, ml, mii], phi, m, mv),
+            accumulate_lumped_row::<W>,
         )
     };
     sim.records_diagnostics.then_some(totals)
