@@ -94,7 +94,14 @@ proptest! {
         for conservative in [false, true] {
             let ints = [exact];
             let options = TlsOptions { order: nb, degenerate: DegenerateCells::Error, ..TlsOptions::default() };
-            let r = reconstruct(&[(a, a + w)], &x, &y, conservative.then_some(&ints[..]), options).unwrap();
+            let r = match reconstruct(&[(a, a + w)], &x, &y, conservative.then_some(&ints[..]), options) {
+                Ok(r) => r,
+                // Clustered points can push κ₁(D) of a quartic fit past the
+                // limit (1e10), which the fit refuses with a typed error
+                // rather than return a fit it cannot trust; nothing to check.
+                Err(hompm::Error::SingularCell { .. }) => return Ok(()),
+                Err(e) => return Err(TestCaseError::fail(e.to_string())),
+            };
             // Exact up to rounding amplified by κ(D) (clustered points make D
             // ill-conditioned for high n_b).
             let kappa = r.condition_numbers()[0];
