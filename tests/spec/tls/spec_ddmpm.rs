@@ -310,3 +310,46 @@ fn end_subpoints_include_both_ends_of_the_particle_domain() {
         "DDMPM (4 subpoints incl. ends)"
     );
 }
+
+/// TLS paper §6.2: with n subpoints per particle the node volumes are
+/// V_j = Σ_p Σ_s (V_p/n) φ_j(x_p + V_p (t_s − ½)), t_s = (s + ½)/n (the
+/// midpoints) or s/(n − 1) (both ends), each subpoint clamped to the grid,
+/// summed particle by particle and, in a particle, from its left end to
+/// its right: the grid's V_j are that sum bit for bit (a subpoint placed or
+/// visited otherwise changes the rounding, if not the value).
+#[test]
+fn subpoint_node_volumes_are_the_sum_over_each_particle_from_its_left_end() {
+    use hompm::lagrange::{LagrangeBasis, LagrangeOrder};
+    let (a, b, cells) = (0.0, 3.0, 5);
+    let basis = LagrangeBasis::new(a, b, cells, LagrangeOrder::Linear).unwrap();
+    let xs: Vec<f64> = (0..23).map(|p| 0.05 + 0.13 * p as f64).collect();
+    let vs: Vec<f64> = (0..23).map(|p| 0.09 + 0.011 * (p % 7) as f64).collect();
+    for (method, n, t) in [
+        (
+            Method::ddmpm_subpoints(7),
+            7,
+            (|s, n| (s as f64 + 0.5) / n as f64) as fn(usize, usize) -> f64,
+        ),
+        (
+            Method::Ddmpm {
+                node_integrals: NodeIntegrals::EndSubpoints(6),
+            },
+            6,
+            |s, n| s as f64 / (n - 1) as f64,
+        ),
+    ] {
+        let mut expected = vec![0.0; cells + 1];
+        for (&x, &v) in xs.iter().zip(&vs) {
+            for s in 0..n {
+                let at = (x + v * (t(s, n) - 0.5)).clamp(a, b);
+                let (mut phi, mut grad) = ([0.0; 2], [0.0; 2]);
+                let k = basis.evaluate_into(at, &mut phi, &mut grad).unwrap();
+                expected[k] += v / n as f64 * phi[0];
+                expected[k + 1] += v / n as f64 * phi[1];
+            }
+        }
+        let mut grid = Grid::new(method, a, b, cells).unwrap();
+        grid.refresh_node_integrals(&xs, &vs).unwrap();
+        assert_eq!(grid.node_volumes(), &expected[..], "{method:?}");
+    }
+}
