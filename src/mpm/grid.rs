@@ -79,9 +79,10 @@ pub struct Grid {
     cells: usize,
     /// c_0 = a < c_1 < … < c_cells = b: the ends of [`Grid::cells`].
     boundaries: Vec<f64>,
-    /// −∞, the sorted points where a basis gradient jumps, +∞: a point
-    /// lies between `fenced_breaks[n]` and `fenced_breaks[n + 1]` when n
-    /// breaks lie at or below it (`Grid::breaks` is it without the fences).
+    /// The sorted points where a basis gradient jumps.
+    breaks: Vec<f64>,
+    /// −∞, the breaks, +∞: particle k lies between `fenced_breaks[n]` and
+    /// `fenced_breaks[n + 1]` when n breaks lie at or below it.
     fenced_breaks: Vec<f64>,
     /// cells/(b − a): turns a position into a guess of its cell.
     cells_per_length: f64,
@@ -183,6 +184,7 @@ impl Grid {
             dual: None,
             cells,
             boundaries: Vec::new(),
+            breaks: Vec::new(),
             fenced_breaks: Vec::new(),
             cells_per_length: 0.0,
             spacing: 0.0,
@@ -195,8 +197,9 @@ impl Grid {
         grid.boundaries = std::iter::once(spans[0].0)
             .chain(spans.iter().map(|c| c.1))
             .collect();
+        grid.breaks = grid.basis().gradient_breaks();
         grid.fenced_breaks = std::iter::once(f64::NEG_INFINITY)
-            .chain(grid.basis().gradient_breaks())
+            .chain(grid.breaks.iter().copied())
             .chain([f64::INFINITY])
             .collect();
         if let Method::Ddmpm { node_integrals } = method {
@@ -274,12 +277,7 @@ impl Grid {
 
     /// Points where a basis gradient is discontinuous (grid crossings).
     pub fn gradient_breaks(&self) -> Vec<f64> {
-        self.breaks().to_vec()
-    }
-
-    /// The gradient breaks, without the fences of `fenced_breaks`.
-    fn breaks(&self) -> &[f64] {
-        &self.fenced_breaks[1..self.fenced_breaks.len() - 1]
+        self.breaks.clone()
     }
 
     /// The underlying basis (values and exact derivatives).
@@ -363,7 +361,7 @@ impl Grid {
     /// The number of gradient breaks b ≤ x. A particle moving from x to y
     /// crosses |N(y) − N(x)| breaks (thesis §3.3). O(1) on a uniform grid.
     pub fn breaks_at_or_below(&self, x: f64) -> usize {
-        let br = self.breaks();
+        let br = &self.breaks;
         if br.is_empty() {
             return 0;
         }
