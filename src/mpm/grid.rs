@@ -82,7 +82,9 @@ pub struct Grid {
     /// The sorted points where a basis gradient jumps.
     breaks: Vec<f64>,
     /// −∞, the breaks, +∞: particle k lies between `fenced_breaks[n]` and
-    /// `fenced_breaks[n + 1]` when n breaks lie at or below it.
+    /// `fenced_breaks[n + 1]` when n breaks lie at or below it. A second
+    /// copy on purpose: reading `breaks` as its inner slice cost the
+    /// watched P1 step 302 → 308 instructions per particle-step (callgrind).
     fenced_breaks: Vec<f64>,
     /// cells/(b − a): turns a position into a guess of its cell.
     cells_per_length: f64,
