@@ -73,7 +73,7 @@ pub struct MlsShapes {
     cursor: Vec<usize>,
     /// (w, scaled offset) of the entries of the row's lists, from the
     /// row's first entry, aligned with `particle`.
-    local: Vec<(f64, [f64; 2])>,
+    local: Vec<([f64; 2], f64)>,
 }
 
 impl MlsShapes {
@@ -110,7 +110,7 @@ impl MlsShapes {
             axis_weights: Vec::with_capacity(2 * per_axis * particles),
             lengths: vec![0; (2 * cells + 1) * (2 * cells + 1)],
             cursor: vec![0; 4 * cells],
-            local: vec![(0.0, [0.0; 2]); 4 * cells * per_point],
+            local: vec![([0.0; 2], 0.0); 4 * cells * per_point],
         })
     }
 
@@ -329,7 +329,7 @@ impl MlsShapes {
         let base = self.start[first_point];
         let row_entries = self.end[first_point + 2 * n - 1] - base;
         if self.local.len() < row_entries {
-            self.local.resize(row_entries, (0.0, [0.0; 2]));
+            self.local.resize(row_entries, ([0.0; 2], 0.0));
         }
         // The cursors count from the row's first entry `base`.
         self.cursor.clear();
@@ -367,7 +367,7 @@ impl MlsShapes {
                     let entry = *next;
                     *next = entry + 1;
                     particle[entry] = p;
-                    local[entry] = (wx * wy, [dx, dy]);
+                    local[entry] = ([dx, dy], wx * wy);
                 }
             }
         }
@@ -397,14 +397,17 @@ impl MlsShapes {
     }
 }
 
+crate::dispatch::avx2_when_available! {
 /// Appends, for each gathered (w, d), φ_gp = w (z₀ + z₁ d_x + z₂ d_y)
 /// (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and z the first row of A⁻¹). One
 /// extend, not a push per entry (one capacity check), in a function of its
 /// own so that z stays in registers.
+/// AVX2 where the processor has it ([`crate::dispatch`]).
 #[inline(never)]
-fn append_shape_functions(phi: &mut Vec<f64>, gathered: &[(f64, [f64; 2])], z: [f64; 3]) {
-    let shape = |&(w, d): &(f64, [f64; 2])| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
+fn append_shape_functions(phi: &mut Vec<f64>, gathered: &[([f64; 2], f64)], z: [f64; 3]) {
+    let shape = |&(d, w): &([f64; 2], f64)| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
     phi.extend(gathered.iter().map(shape));
+}
 }
 
 impl Reconstruction for MlsShapes {
@@ -438,19 +441,20 @@ impl GaussReconstruction for MlsShapes {
     }
 }
 
+crate::dispatch::avx2_when_available! {
 /// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
 /// (w, d) (MLS paper Eq. 10), each entry summed in list order.
 /// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
 /// w q_i on both sides of the diagonal and are summed once; (1, 2) and
 /// (2, 1) are not the same product and are summed each, as the two lanes
 /// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
-/// registers.
+/// registers. AVX2 where the processor has it ([`crate::dispatch`]).
 #[inline(never)]
-fn accumulate_moment(gathered: &[(f64, [f64; 2])]) -> Matrix3<f64> {
+fn accumulate_moment(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> {
     let mut a00 = 0.0;
     // [A01, A02], [A11, A21], [A12, A22].
     let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-    for &(w, d) in gathered {
+    for &(d, w) in gathered {
         let wd = [w * d[0], w * d[1]];
         a00 += w;
         // Lane by lane, which the compiler packs better than pairs.
@@ -467,6 +471,7 @@ fn accumulate_moment(gathered: &[(f64, [f64; 2])]) -> Matrix3<f64> {
         first[1], by_x[1], by_y[1],
     );
     a
+}
 }
 
 /// One particle's 1D supports: along each axis, the first Gauss abscissa

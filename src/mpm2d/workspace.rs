@@ -77,11 +77,12 @@ pub struct StepWorkspace2d {
     pub gauss_values: Vec<[f64; 8]>,
 }
 
+crate::dispatch::avx2_when_available! {
 /// The mapping errors of phase 1 into `c` (mass |Σ_i m_i − Σ_p m_p| / Σ_p m_p,
 /// momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, [`Conservation2d`]):
 /// the four particle sums in one pass and the three nodal sums in another,
 /// each a [`CompensatedSum`] over the same terms in the same order as one
-/// pass per sum.
+/// pass per sum. AVX2 where the processor has it ([`crate::dispatch`]).
 pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
     // Compensated sums on both sides, so that the monitor measures the
     // mapping's rounding and not that of its own sums.
@@ -106,4 +107,5 @@ pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut
         let (dx, dy) = (gx.total() - px.total(), gy.total() - py.total());
         c.momentum = c.momentum.max(dx.hypot(dy) / scale);
     }
+}
 }

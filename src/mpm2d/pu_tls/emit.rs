@@ -86,24 +86,15 @@ impl PuTlsShapes {
                 }
                 let pairs = &pairs[..held];
                 let slots = start[bx + n * by]..start[bx + n * by + 1];
-                for cf in &self.coefficients[slots] {
-                    let mut phi = [0.0; 4];
-                    for &(e, f) in pairs {
-                        let c = &cf[e];
-                        // Σ_r c_r f_r from r = 0, as the sum was.
-                        let mut dot = f[0].map(|x| c[0] * x);
-                        for r in 1..K {
-                            for q in 0..4 {
-                                dot[q] += c[r] * f[r][q];
-                            }
-                        }
-                        for q in 0..4 {
-                            phi[q] += dot[q];
-                        }
-                    }
-                    [out0[index], out1[index], out2[index], out3[index]] = phi;
-                    index += 1;
-                }
+                let count = slots.len();
+                let outs = [
+                    &mut out0[index..][..count],
+                    &mut out1[index..][..count],
+                    &mut out2[index..][..count],
+                    &mut out3[index..][..count],
+                ];
+                blend_patches::<K>(&self.coefficients[slots], pairs, outs);
+                index += count;
             }
         }
         let ng = 2 * n;
@@ -118,4 +109,38 @@ impl PuTlsShapes {
             shapes.end[g] = shapes.particle.len();
         }
     }
+}
+
+crate::dispatch::avx2_when_available! {
+/// φ_gp at the cell's four Gauss points for a run of particles (their
+/// coefficients `coefficients`, one per slot) into `outs[q]`: Σ over the
+/// `pairs` (patch slot e, N_e ψ̂_e at the points) of Σ_r c_r f_r, from
+/// r = 0, in the order of `pairs`. AVX2 where the processor has it
+/// ([`crate::dispatch`]): the four points are the four lanes of one
+/// register.
+#[inline(never)]
+fn blend_patches<const K: usize>(
+    coefficients: &[[[f64; super::FITTED + 1]; 9]],
+    pairs: &[(usize, &[[f64; 4]; K])],
+    outs: [&mut [f64]; 4],
+) {
+    let [out0, out1, out2, out3] = outs;
+    for (index, cf) in coefficients.iter().enumerate() {
+        let mut phi = [0.0; 4];
+        for &(e, f) in pairs {
+            let c = &cf[e];
+            // Σ_r c_r f_r from r = 0, as the sum was.
+            let mut dot = f[0].map(|x| c[0] * x);
+            for r in 1..K {
+                for q in 0..4 {
+                    dot[q] += c[r] * f[r][q];
+                }
+            }
+            for q in 0..4 {
+                phi[q] += dot[q];
+            }
+        }
+        [out0[index], out1[index], out2[index], out3[index]] = phi;
+    }
+}
 }

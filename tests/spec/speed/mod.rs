@@ -1,8 +1,10 @@
 //! Issue #39: the lean steps that hompm's speed is measured against
 //! compute bit for bit what hompm's step computes, so a ratio of their
 //! times is a ratio of the same work; and the fixed-size inverse of the
-//! TLS normal matrix gives nalgebra's bits (small_lu.rs).
+//! TLS normal matrix gives nalgebra's bits (small_lu.rs); the kernels
+//! compiled for AVX2 give the baseline's bits (dispatch.rs).
 
+mod dispatch;
 mod fused_step;
 mod lean_2d;
 mod lean_p1;
