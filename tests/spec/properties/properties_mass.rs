@@ -90,6 +90,32 @@ proptest! {
         }
     }
 
+    /// y = Ax sums each row's products in column order from −0, as one
+    /// `Iterator::sum` per row: `mul_vec` interleaves two rows, which must
+    /// not change a bit (rows of different lengths, empty rows, an odd
+    /// number of rows, a y shorter than A).
+    #[test]
+    fn csr_product_sums_each_row_in_column_order(rows in 1usize..12, cols in 1usize..12,
+                                                 entries in proptest::collection::vec((0usize..12, 0usize..12, -1.0f64..1.0), 0..60),
+                                                 x in proptest::collection::vec(-1e3f64..1e3, 12),
+                                                 short in 0usize..2) {
+        let mut seen = std::collections::BTreeSet::new();
+        let t: Vec<_> = entries
+            .into_iter()
+            .map(|(i, j, v)| (i % rows, j % cols, v))
+            .filter(|&(i, j, _)| seen.insert((i, j)))
+            .collect();
+        let a = SparseMatrix::from_triplets(rows, cols, &t).unwrap();
+        let n = rows - short.min(rows - 1);
+        let mut y = vec![f64::NAN; n];
+        a.mul_vec(&x[..cols], &mut y);
+        for (i, yi) in y.iter().enumerate() {
+            let (c, v) = a.row(i);
+            let expected: f64 = c.iter().zip(v).map(|(&j, &aij)| aij * x[j]).sum();
+            prop_assert_eq!(yi.to_bits(), expected.to_bits(), "row {}", i);
+        }
+    }
+
     /// (A⊗B)x = vec(B X Aᵀ) against the assembled product, rectangular factors.
     #[test]
     fn kronecker_product_matches_assembled(ma in 1usize..7, na in 1usize..7, mb in 1usize..7, nb in 1usize..7,
