@@ -113,6 +113,9 @@ impl LevelMap {
 #[derive(Debug, Clone)]
 struct Level {
     matrix: SparseMatrix,
+    /// The diagonal of `matrix`, for the smoother (found once, not per
+    /// smoothing call).
+    diagonal: Vec<f64>,
     /// I_{q−1}^q (absent on level 1).
     prolongation: Option<LevelMap>,
     /// I_q^{q−1} (absent on level 1).
@@ -234,6 +237,7 @@ impl PMultigrid {
                 }
             };
             out.push(Level {
+                diagonal: matrix.diagonal(),
                 matrix,
                 prolongation,
                 restriction,
@@ -266,15 +270,15 @@ impl PMultigrid {
         Some((&lv.matrix, transfers))
     }
 
-    fn smooth(&self, a: &SparseMatrix, f: &[f64], x: &mut [f64], steps: usize) {
+    fn smooth(&self, level: &Level, f: &[f64], x: &mut [f64], steps: usize) {
+        let (a, diag) = (&level.matrix, &level.diagonal);
         let n = a.rows();
-        let diag = a.diagonal();
         for _ in 0..steps {
             match self.options.smoother {
-                Smoother::ForwardGaussSeidel => gauss_seidel_sweep(a, &diag, f, x, false),
+                Smoother::ForwardGaussSeidel => gauss_seidel_sweep(a, diag, f, x, false),
                 Smoother::SymmetricGaussSeidel => {
-                    gauss_seidel_sweep(a, &diag, f, x, false);
-                    gauss_seidel_sweep(a, &diag, f, x, true);
+                    gauss_seidel_sweep(a, diag, f, x, false);
+                    gauss_seidel_sweep(a, diag, f, x, true);
                 }
                 Smoother::DampedJacobi { omega } => {
                     let mut ax = vec![0.0; n];
@@ -305,7 +309,7 @@ impl PMultigrid {
     fn cycle(&self, level: usize, f: &[f64], x: &mut [f64]) -> Result<()> {
         let lv = &self.levels[level];
         let a = &lv.matrix;
-        self.smooth(a, f, x, self.options.pre_smoothing);
+        self.smooth(lv, f, x, self.options.pre_smoothing);
         if self.options.coarse_correction {
             let mut ax = vec![0.0; a.rows()];
             a.mul_vec(x, &mut ax);
@@ -328,7 +332,7 @@ impl PMultigrid {
                 *xi += ei;
             }
         }
-        self.smooth(a, f, x, self.options.post_smoothing);
+        self.smooth(lv, f, x, self.options.post_smoothing);
         Ok(())
     }
 
