@@ -26,6 +26,9 @@
 /// (the first largest |D_ij| of its column, at or below the diagonal) is
 /// zero. Bit for bit nalgebra 0.35's `try_inverse` for M = 5 and 6 (module
 /// doc; nalgebra inverts M ≤ 4 by closed forms instead); M ≤ 6.
+/// Always inlined, so that TLS's dispatched `normal_solve` compiles it with
+/// AVX2 too.
+#[inline(always)]
 pub fn try_inverse_lu<const M: usize>(d: &[[f64; M]; M]) -> Option<[[f64; M]; M]> {
     // The steps below are written out for I = 0 … 5: M ≤ 6, checked when
     // the function is compiled for an M.

@@ -2,8 +2,8 @@
 //! x86-64 baseline and with AVX2) give the same bits, so the processor a
 //! run lands on changes its time and nothing else. Each method that runs
 //! one of them (MLS: the moment sums, the shape functions, the Gauss-point
-//! sums; PU-TLS: the Gauss-point sums; every 2D method: the mapping-error
-//! record) takes 40 steps of the aligned vibration once on each copy, and
+//! sums; PU-TLS: the blend of its patches, the Gauss-point sums; TLS: the
+//! normal solve of each cell; every 2D method: the mapping-error record) takes 40 steps of the aligned vibration once on each copy, and
 //! every bit of every particle and of the record must agree.
 //!
 //! `dispatch::force_portable` is process-wide: a test that runs beside
@@ -44,6 +44,7 @@ fn avx2_and_baseline_kernels_give_the_same_bits() {
     let methods = [
         AlignedMethod::bsmpm_with(2, Mapping2d::Mls),
         AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
+        AlignedMethod::bsmpm_with(2, Mapping2d::Tls),
         AlignedMethod::bsmpm(2),
         AlignedMethod::Mpm,
     ];
