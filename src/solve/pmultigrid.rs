@@ -116,6 +116,10 @@ struct Level {
     /// The diagonal of `matrix`, for the smoother (found once, not per
     /// smoothing call).
     diagonal: Vec<f64>,
+    /// In 2D, the 1D mass M_q with `matrix` = M_q ⊗ M_q: the forward
+    /// sweep reads its entries instead of the assembled ones
+    /// ([`gauss_seidel_sweep_kronecker`]).
+    factor: Option<SparseMatrix>,
     /// I_{q−1}^q (absent on level 1).
     prolongation: Option<LevelMap>,
     /// I_q^{q−1} (absent on level 1).
@@ -238,6 +242,7 @@ impl PMultigrid {
             };
             out.push(Level {
                 diagonal: matrix.diagonal(),
+                factor: (dim == 2).then(|| level.mass.clone()),
                 matrix,
                 prolongation,
                 restriction,
@@ -275,7 +280,10 @@ impl PMultigrid {
         let n = a.rows();
         for _ in 0..steps {
             match self.options.smoother {
-                Smoother::ForwardGaussSeidel => gauss_seidel_sweep(a, diag, f, x, false),
+                Smoother::ForwardGaussSeidel => match &level.factor {
+                    Some(m) => gauss_seidel_sweep_kronecker(m, m, diag, f, x),
+                    None => gauss_seidel_sweep(a, diag, f, x, false),
+                },
                 Smoother::SymmetricGaussSeidel => {
                     gauss_seidel_sweep(a, diag, f, x, false);
                     gauss_seidel_sweep(a, diag, f, x, true);
@@ -402,5 +410,53 @@ pub fn gauss_seidel_sweep(
         (0..n).rev().for_each(&mut step);
     } else {
         (0..n).for_each(&mut step);
+    }
+}
+
+/// The forward sweep of [`gauss_seidel_sweep`] on B ⊗ A (A varies
+/// fastest, as [`SparseMatrix::kron`]) without reading the assembled
+/// matrix: entry (i_a + m_a i_b, j_a + n_a j_b) is formed as A(i_a, j_a)
+/// B(i_b, j_b), the product `kron` stores, and a row's entries come in the
+/// order of its assembled row (j_b, then j_a), so the sweep gives the bits
+/// of the assembled one (the property
+/// `kronecker_sweep_is_the_assembled_sweep`). It reads two small 1D
+/// matrices instead of (2p + 1)² stored entries and column indices per
+/// row. `diag` is the diagonal of B ⊗ A.
+pub fn gauss_seidel_sweep_kronecker(
+    b: &SparseMatrix,
+    a: &SparseMatrix,
+    diag: &[f64],
+    f: &[f64],
+    x: &mut [f64],
+) {
+    let (rows_a, cols_a) = (a.rows(), a.cols());
+    for ib in 0..b.rows() {
+        let (cb, vb) = b.row(ib);
+        for ia in 0..rows_a {
+            let (ca, va) = a.row(ia);
+            let i = ia + rows_a * ib;
+            // A banded row's columns are one run: its x are then one slice.
+            let run = match (ca.first(), ca.last()) {
+                (Some(&first), Some(&last)) if last - first + 1 == ca.len() => Some(first),
+                _ => None,
+            };
+            let mut s = -0.0;
+            for (&jb, &bv) in cb.iter().zip(vb) {
+                let block = &x[cols_a * jb..][..cols_a];
+                match run {
+                    Some(first) => {
+                        for (&av, &xj) in va.iter().zip(&block[first..][..va.len()]) {
+                            s += av * bv * xj;
+                        }
+                    }
+                    None => {
+                        for (&ja, &av) in ca.iter().zip(va) {
+                            s += av * bv * block[ja];
+                        }
+                    }
+                }
+            }
+            x[i] += (f[i] - s) / diag[i];
+        }
     }
 }
