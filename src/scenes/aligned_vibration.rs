@@ -399,30 +399,6 @@ impl AlignedVibration {
         self.body_force_with(x0, t, PI * PI)
     }
 
-    /// The most work the manufactured body force can do on the particles,
-    /// the loads' share of the 2D stability monitor's budget
-    /// (`mpm2d::monitor`), as 1D's (Σ m_p |g|) × L: the total mass ×
-    /// max |b| × L√2 (no particle moves farther than the square's
-    /// diagonal). max |b| is taken over a 65 × 65 grid of X on the square
-    /// and 65 times of one period 2L/c, and doubled for what the samples
-    /// miss between them.
-    pub fn work_bound(&self, total_mass: f64) -> Result<f64> {
-        const SAMPLES: usize = 65;
-        let period = 2.0 * self.length / self.wave_speed();
-        let at = |k: usize, span: f64| span * k as f64 / (SAMPLES - 1) as f64;
-        let mut largest = 0.0f64;
-        for i in 0..SAMPLES {
-            for j in 0..SAMPLES {
-                let x0 = [at(i, self.length), at(j, self.length)];
-                for k in 0..SAMPLES {
-                    let b = self.body_force(x0, at(k, period))?;
-                    largest = largest.max(b[0].hypot(b[1]));
-                }
-            }
-        }
-        Ok(total_mass * 2.0 * largest * self.length * std::f64::consts::SQRT_2)
-    }
-
     /// Eq. (42) exactly as printed, with π where the derivation gives π².
     pub fn body_force_as_printed(&self, x0: [f64; 2], t: f64) -> Result<[f64; 2]> {
         self.body_force_with(x0, t, PI)

@@ -538,3 +538,42 @@ fn the_2d_run_reports_progress_every_step_and_budgets_the_body_forces_work() {
     }
     assert_eq!(w1, 2.0 * largest * scene.length * std::f64::consts::SQRT_2);
 }
+
+/// The work bound's samples are kept per parameter set for the process
+/// (`AlignedVibration::work_bound`): two sets that differ in one parameter
+/// each get their own bound, the one their own 65³ samples give, whichever
+/// was asked first, and asking again gives the same bits.
+#[test]
+fn work_bound_is_sampled_for_each_parameter_set() {
+    use hompm::scenes::aligned_vibration::{parameters, SolutionForm};
+    let paper = parameters("mls-paper-e1e7").unwrap();
+    let axis_aligned = hompm::scenes::aligned_vibration::AlignedVibration {
+        solution: SolutionForm::AxisAligned,
+        ..paper
+    };
+    let stiffer = parameters("mls-paper-e1e8").unwrap();
+    let reference = |scene: &hompm::scenes::aligned_vibration::AlignedVibration| {
+        let period = 2.0 * scene.length / scene.wave_speed();
+        let at = |n: usize, span: f64| span * n as f64 / 64.0;
+        let mut largest = 0.0f64;
+        for i in 0..65 {
+            for j in 0..65 {
+                for k in 0..65 {
+                    let x0 = [at(i, scene.length), at(j, scene.length)];
+                    let f = scene.body_force(x0, at(k, period)).unwrap();
+                    largest = largest.max(f[0].hypot(f[1]));
+                }
+            }
+        }
+        2.0 * largest * scene.length * std::f64::consts::SQRT_2
+    };
+    let bounds: Vec<f64> = [paper, axis_aligned, stiffer, axis_aligned]
+        .iter()
+        .map(|s| s.work_bound(1.0).unwrap())
+        .collect();
+    assert_eq!(bounds[1].to_bits(), bounds[3].to_bits());
+    assert_ne!(bounds[0], bounds[1]);
+    assert_ne!(bounds[0], bounds[2]);
+    assert_eq!(bounds[1], reference(&axis_aligned));
+    assert_eq!(bounds[2], reference(&stiffer));
+}
