@@ -15,14 +15,16 @@
 //! Transfers use the mixed mass matrix P_ij = ∫ φ_i^q φ_j^{q−1}:
 //! prolongation I_{q−1}^q = M_q⁻¹ P and restriction I_q^{q−1} = M_{q−1}⁻¹ Pᵀ,
 //! with M either the lumped (row-sum) or the consistent mass matrix. In 2D
-//! every transfer is a Kronecker product of 1D transfers.
+//! every transfer is a Kronecker product of 1D transfers, and each level's
+//! forward Gauss–Seidel sweep reads the entries of M_q ⊗ M_q from the 1D
+//! M_q ([`gauss_seidel_sweep_kronecker`], the bits of the assembled sweep).
 //!
 //! When the finest level is already p = 1 (book Table 4.4, first row) a cycle
 //! is ν₁ smoothing, a CG solve (tolerance 1e-4) of the residual equation on
 //! that level, and ν₂ smoothing (docs/conventions.md).
 //!
 //! Items: [`Smoother`], [`Transfer`], [`PMultigridOptions`], [`PMultigrid`],
-//! [`gauss_seidel_sweep`].
+//! [`gauss_seidel_sweep`], [`gauss_seidel_sweep_kronecker`].
 
 use super::cg::{conjugate_gradient, CgVariant};
 use super::direct::cholesky_solve;
