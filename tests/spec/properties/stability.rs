@@ -552,6 +552,11 @@ fn work_bound_is_sampled_for_each_parameter_set() {
         ..paper
     };
     let stiffer = parameters("mls-paper-e1e8").unwrap();
+    // A side other than 1 m, a set of its own.
+    let smaller = hompm::scenes::aligned_vibration::AlignedVibration {
+        length: 2.0,
+        ..paper
+    };
     let reference = |scene: &hompm::scenes::aligned_vibration::AlignedVibration| {
         let period = 2.0 * scene.length / scene.wave_speed();
         let at = |n: usize, span: f64| span * n as f64 / 64.0;
@@ -567,7 +572,7 @@ fn work_bound_is_sampled_for_each_parameter_set() {
         }
         2.0 * largest * scene.length * std::f64::consts::SQRT_2
     };
-    let bounds: Vec<f64> = [paper, axis_aligned, stiffer, axis_aligned]
+    let bounds: Vec<f64> = [paper, axis_aligned, stiffer, axis_aligned, smaller]
         .iter()
         .map(|s| s.work_bound(1.0).unwrap())
         .collect();
@@ -576,4 +581,5 @@ fn work_bound_is_sampled_for_each_parameter_set() {
     assert_ne!(bounds[0], bounds[2]);
     assert_eq!(bounds[1], reference(&axis_aligned));
     assert_eq!(bounds[2], reference(&stiffer));
+    assert_eq!(bounds[4], reference(&smaller));
 }
