@@ -55,35 +55,37 @@ pub fn avx2_in_use() -> bool {
     }
 }
 
-/// Defines a free function whose body is compiled twice: for the target's
-/// baseline and, on x86-64, with AVX2 enabled; a call runs the AVX2 copy
-/// when [`avx2_in_use`] (module docs: the same bits either way). The
-/// arguments must be plain names; the function may have const generic
-/// parameters and `impl Trait` arguments, but no other generics.
+/// Defines a free function `name` that runs the kernel `kernel` (a function
+/// of the same module with the same signature, marked `#[inline(always)]`),
+/// compiled twice: for the target's baseline and, on x86-64, with AVX2
+/// enabled; a call runs the AVX2 copy when [`avx2_in_use`] (module docs:
+/// the same bits either way). The kernel stays an ordinary function, which
+/// rustfmt formats and cargo-mutants mutates. The arguments must be plain
+/// names; const generic parameters are passed on to the kernel.
 ///
 /// ```ignore
+/// #[inline(always)]
+/// fn dot_kernel(a: &[f64], b: &[f64]) -> f64 {
+///     a.iter().zip(b).fold(0.0, |s, (x, y)| s + x * y)
+/// }
 /// crate::dispatch::avx2_when_available! {
 ///     /// Σ_k a_k b_k, in index order.
-///     fn dot(a: &[f64], b: &[f64]) -> f64 {
-///         a.iter().zip(b).fold(0.0, |s, (x, y)| s + x * y)
-///     }
+///     fn dot(a: &[f64], b: &[f64]) -> f64 = dot_kernel;
 /// }
 /// ```
 macro_rules! avx2_when_available {
     (
         $(#[$attr:meta])*
         $vis:vis fn $name:ident $(<$(const $g:ident: $gt:ty),*>)?
-            ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block
+            ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? = $kernel:ident;
     ) => {
         $(#[$attr])*
         $vis fn $name $(<$(const $g: $gt),*>)? ($($arg: $ty),*) $(-> $ret)? {
-            #[inline(always)]
-            fn portable $(<$(const $g: $gt),*>)? ($($arg: $ty),*) $(-> $ret)? $body
             #[cfg(target_arch = "x86_64")]
             {
                 #[target_feature(enable = "avx2")]
                 fn with_avx2 $(<$(const $g: $gt),*>)? ($($arg: $ty),*) $(-> $ret)? {
-                    portable $(::<$($g),*>)? ($($arg),*)
+                    $kernel $(::<$($g),*>)? ($($arg),*)
                 }
                 if $crate::dispatch::avx2_in_use() {
                     // SAFETY: `with_avx2` needs AVX2, and avx2_in_use has
@@ -91,7 +93,7 @@ macro_rules! avx2_when_available {
                     return unsafe { with_avx2 $(::<$($g),*>)? ($($arg),*) };
                 }
             }
-            portable $(::<$($g),*>)? ($($arg),*)
+            $kernel $(::<$($g),*>)? ($($arg),*)
         }
     };
 }

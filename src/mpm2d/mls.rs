@@ -397,17 +397,21 @@ impl MlsShapes {
     }
 }
 
-crate::dispatch::avx2_when_available! {
-/// Appends, for each gathered (w, d), φ_gp = w (z₀ + z₁ d_x + z₂ d_y)
-/// (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and z the first row of A⁻¹). One
-/// extend, not a push per entry (one capacity check), in a function of its
-/// own so that z stays in registers.
-/// AVX2 where the processor has it ([`crate::dispatch`]).
-#[inline(never)]
-fn append_shape_functions(phi: &mut Vec<f64>, gathered: &[([f64; 2], f64)], z: [f64; 3]) {
+/// The body of [`append_shape_functions`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn append_shape_functions_kernel(phi: &mut Vec<f64>, gathered: &[([f64; 2], f64)], z: [f64; 3]) {
     let shape = |&(d, w): &([f64; 2], f64)| w * (z[0] + z[1] * d[0] + z[2] * d[1]);
     phi.extend(gathered.iter().map(shape));
 }
+
+crate::dispatch::avx2_when_available! {
+    /// Appends, for each gathered (w, d), φ_gp = w (z₀ + z₁ d_x + z₂ d_y)
+    /// (Eq. 14 with pᵀ(x_g) = [1, 0, 0] and z the first row of A⁻¹). One
+    /// extend, not a push per entry (one capacity check), in a function of its
+    /// own so that z stays in registers.
+    /// AVX2 where the processor has it ([`crate::dispatch`]).
+    #[inline(never)]
+    fn append_shape_functions(phi: &mut Vec<f64>, gathered: &[([f64; 2], f64)], z: [f64; 3]) = append_shape_functions_kernel;
 }
 
 impl Reconstruction for MlsShapes {
@@ -441,16 +445,9 @@ impl GaussReconstruction for MlsShapes {
     }
 }
 
-crate::dispatch::avx2_when_available! {
-/// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
-/// (w, d) (MLS paper Eq. 10), each entry summed in list order.
-/// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
-/// w q_i on both sides of the diagonal and are summed once; (1, 2) and
-/// (2, 1) are not the same product and are summed each, as the two lanes
-/// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
-/// registers. AVX2 where the processor has it ([`crate::dispatch`]).
-#[inline(never)]
-fn accumulate_moment(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> {
+/// The body of [`accumulate_moment`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn accumulate_moment_kernel(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> {
     let mut a00 = 0.0;
     // [A01, A02], [A11, A21], [A12, A22].
     let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
@@ -472,6 +469,17 @@ fn accumulate_moment(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> {
     );
     a
 }
+
+crate::dispatch::avx2_when_available! {
+    /// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
+    /// (w, d) (MLS paper Eq. 10), each entry summed in list order.
+    /// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
+    /// w q_i on both sides of the diagonal and are summed once; (1, 2) and
+    /// (2, 1) are not the same product and are summed each, as the two lanes
+    /// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
+    /// registers. AVX2 where the processor has it ([`crate::dispatch`]).
+    #[inline(never)]
+    fn accumulate_moment(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> = accumulate_moment_kernel;
 }
 
 /// One particle's 1D supports: along each axis, the first Gauss abscissa

@@ -377,16 +377,9 @@ fn normal_matrix<const M: usize>(rows: &[[f64; 6]], skip: usize) -> [[f64; M]; M
     d
 }
 
-crate::dispatch::avx2_when_available! {
-/// z_q = D⁻¹ ψ̂(x_q) for the four Gauss points and κ₁(D), with
-/// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M};
-/// `None` if D cannot be inverted or κ is not finite. Not inlined, so that
-/// its per-cell code compiles alike whatever code surrounds it (issue #39:
-/// inlined, it varied by ~35 instructions per particle-step with changes
-/// elsewhere in the crate). AVX2 where the processor has it
-/// ([`crate::dispatch`]; TLS 64 cells: 128.1 -> 125.5 ns per particle-step).
-#[inline(never)]
-fn normal_solve<const M: usize>(
+/// The body of [`normal_solve`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn normal_solve_kernel<const M: usize>(
     rows: &[[f64; 6]],
     skip: usize,
     at: &[[f64; 6]; 4],
@@ -427,6 +420,21 @@ fn normal_solve<const M: usize>(
     }
     Some((z, kappa))
 }
+
+crate::dispatch::avx2_when_available! {
+    /// z_q = D⁻¹ ψ̂(x_q) for the four Gauss points and κ₁(D), with
+    /// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M};
+    /// `None` if D cannot be inverted or κ is not finite. Not inlined, so that
+    /// its per-cell code compiles alike whatever code surrounds it (issue #39:
+    /// inlined, it varied by ~35 instructions per particle-step with changes
+    /// elsewhere in the crate). AVX2 where the processor has it
+    /// ([`crate::dispatch`]; TLS 64 cells: 128.1 -> 125.5 ns per particle-step).
+    #[inline(never)]
+    fn normal_solve<const M: usize>(
+        rows: &[[f64; 6]],
+        skip: usize,
+        at: &[[f64; 6]; 4],
+    ) -> Option<([[f64; 6]; 4], f64)> = normal_solve_kernel;
 }
 
 impl Reconstruction for TlsShapes {

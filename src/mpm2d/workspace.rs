@@ -77,13 +77,9 @@ pub struct StepWorkspace2d {
     pub gauss_values: Vec<[f64; 8]>,
 }
 
-crate::dispatch::avx2_when_available! {
-/// The mapping errors of phase 1 into `c` (mass |Σ_i m_i − Σ_p m_p| / Σ_p m_p,
-/// momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, [`Conservation2d`]):
-/// the four particle sums in one pass and the three nodal sums in another,
-/// each a [`CompensatedSum`] over the same terms in the same order as one
-/// pass per sum. AVX2 where the processor has it ([`crate::dispatch`]).
-pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
+/// The body of [`record_conservation`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn record_conservation_kernel(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) {
     // Compensated sums on both sides, so that the monitor measures the
     // mapping's rounding and not that of its own sums.
     let [mut particle_mass, mut scale, mut px, mut py] = [CompensatedSum::default(); 4];
@@ -108,4 +104,12 @@ pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut
         c.momentum = c.momentum.max(dx.hypot(dy) / scale);
     }
 }
+
+crate::dispatch::avx2_when_available! {
+    /// The mapping errors of phase 1 into `c` (mass |Σ_i m_i − Σ_p m_p| / Σ_p m_p,
+    /// momentum |Σ_i (mv)_i − Σ_p m_p v_p| / Σ_p m_p |v_p|, [`Conservation2d`]):
+    /// the four particle sums in one pass and the three nodal sums in another,
+    /// each a [`CompensatedSum`] over the same terms in the same order as one
+    /// pass per sum. AVX2 where the processor has it ([`crate::dispatch`]).
+    pub(crate) fn record_conservation(p: &Particles2d, ws: &StepWorkspace2d, c: &mut Conservation2d) = record_conservation_kernel;
 }

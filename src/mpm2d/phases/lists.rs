@@ -21,12 +21,9 @@ fn list<'a>(lists: ShapeLists<'a>, g: usize) -> impl Iterator<Item = (&'a u32, &
         .zip(&lists.phi[entries])
 }
 
-crate::dispatch::avx2_when_available! {
-/// Eqs. (18)–(21) at Gauss point g: Σ_p φ_gp d_p for the eight values
-/// d_p = [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] of each particle.
-/// AVX2 where the processor has it ([`crate::dispatch`]).
-#[inline(never)]
-pub(super) fn gauss_point_values(lists: ShapeLists, g: usize, values: &[[f64; 8]]) -> [f64; 8] {
+/// The body of [`gauss_point_values`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn gauss_point_values_kernel(lists: ShapeLists, g: usize, values: &[[f64; 8]]) -> [f64; 8] {
     let mut q = [0.0; 8];
     for (&k, &phi) in list(lists, g) {
         let d = &values[k as usize];
@@ -34,6 +31,13 @@ pub(super) fn gauss_point_values(lists: ShapeLists, g: usize, values: &[[f64; 8]
     }
     q
 }
+
+crate::dispatch::avx2_when_available! {
+    /// Eqs. (18)–(21) at Gauss point g: Σ_p φ_gp d_p for the eight values
+    /// d_p = [ρ, ρv_x, ρv_y, ρb_x, ρb_y, σ_xx, σ_yy, σ_xy] of each particle.
+    /// AVX2 where the processor has it ([`crate::dispatch`]).
+    #[inline(never)]
+    pub(super) fn gauss_point_values(lists: ShapeLists, g: usize, values: &[[f64; 8]]) -> [f64; 8] = gauss_point_values_kernel;
 }
 
 /// Eq. (31) at Gauss point g: (ρv)_g^L = Σ_p (φ_gp ρ_p) v_p^{t+1} from

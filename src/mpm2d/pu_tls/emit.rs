@@ -111,15 +111,9 @@ impl PuTlsShapes {
     }
 }
 
-crate::dispatch::avx2_when_available! {
-/// φ_gp at the cell's four Gauss points for a run of particles (their
-/// coefficients `coefficients`, one per slot) into `outs[q]`: Σ over the
-/// `pairs` (patch slot e, N_e ψ̂_e at the points) of Σ_r c_r f_r, from
-/// r = 0, in the order of `pairs`. AVX2 where the processor has it
-/// ([`crate::dispatch`]): the four points are the four lanes of one
-/// register.
-#[inline(never)]
-fn blend_patches<const K: usize>(
+/// The body of [`blend_patches`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn blend_patches_kernel<const K: usize>(
     coefficients: &[[[f64; super::FITTED + 1]; 9]],
     pairs: &[(usize, &[[f64; 4]; K])],
     outs: [&mut [f64]; 4],
@@ -143,4 +137,18 @@ fn blend_patches<const K: usize>(
         [out0[index], out1[index], out2[index], out3[index]] = phi;
     }
 }
+
+crate::dispatch::avx2_when_available! {
+    /// φ_gp at the cell's four Gauss points for a run of particles (their
+    /// coefficients `coefficients`, one per slot) into `outs[q]`: Σ over the
+    /// `pairs` (patch slot e, N_e ψ̂_e at the points) of Σ_r c_r f_r, from
+    /// r = 0, in the order of `pairs`. AVX2 where the processor has it
+    /// ([`crate::dispatch`]): the four points are the four lanes of one
+    /// register.
+    #[inline(never)]
+    fn blend_patches<const K: usize>(
+        coefficients: &[[[f64; super::FITTED + 1]; 9]],
+        pairs: &[(usize, &[[f64; 4]; K])],
+        outs: [&mut [f64]; 4],
+    ) = blend_patches_kernel;
 }
