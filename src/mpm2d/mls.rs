@@ -71,8 +71,9 @@ pub struct MlsShapes {
     lengths: Vec<isize>,
     /// The next free entry of each list of the row of cells being gathered.
     cursor: Vec<usize>,
-    /// (w, scaled offset) of the entries of the row's lists, from the
-    /// row's first entry, aligned with `particle`.
+    /// (scaled offset d, w) of the entries of the row's lists, from the
+    /// row's first entry, aligned with `particle`; d first, so that the
+    /// moment sums load the pair d at once.
     local: Vec<([f64; 2], f64)>,
 }
 
