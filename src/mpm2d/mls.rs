@@ -147,7 +147,7 @@ impl MlsShapes {
     /// the list of every point of the row is sized and placed
     /// ([`MlsShapes::lay_out_row`]), the lists of the row are filled
     /// ([`MlsShapes::gather`], Eq. 16) and each point solves its moment
-    /// system ([`MlsShapes::gauss_point`], Eqs. 10 and 14). The lists are
+    /// system ([`MlsShapes::gauss_points`], Eqs. 10 and 14). The lists are
     /// laid out as before the rows were interleaved (all weighed, then all
     /// placed): row-major over the cells, so a row's places depend only on
     /// the rows before it.
@@ -184,11 +184,11 @@ impl MlsShapes {
             // The row's first entry, where its `local` starts.
             let base = self.start[n * 2 * cy];
             for cx in 0..cells {
+                // The cell's two points on each row of points, together.
                 for gy in [2 * cy, 2 * cy + 1] {
-                    for gx in [2 * cx, 2 * cx + 1] {
-                        let xg = [gauss.abscissae[gx], gauss.abscissae[gy]];
-                        self.gauss_point(xg, gx + n * gy, base)?;
-                    }
+                    let (a, b) = ([2 * cx, gy], [2 * cx + 1, gy]);
+                    let xg = [a, b].map(|[gx, gy]| [gauss.abscissae[gx], gauss.abscissae[gy]]);
+                    self.gauss_points(xg, [a, b].map(|[gx, gy]| gx + n * gy), base)?;
                 }
             }
         }
@@ -374,26 +374,31 @@ impl MlsShapes {
         }
     }
 
-    /// Eqs. (10) and (14) at Gauss point g from its gathered entries
-    /// (`local` from the row's first entry `base`): accumulates A, inverts
-    /// it and appends φ_gp.
-    fn gauss_point(&mut self, xg: [f64; 2], g: usize, base: usize) -> Result<()> {
-        let gathered = &self.local[self.start[g] - base..self.end[g] - base];
-        let a = accumulate_moment(gathered);
-        // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
-        let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
-        if kappa.is_finite() {
-            self.largest_condition = self.largest_condition.max(kappa);
+    /// Eqs. (10) and (14) at two Gauss points g (at x_g), one after the
+    /// other, from their gathered entries (`local` from the row's first
+    /// entry `base`): accumulates both A ([`accumulate_moments`]), then for
+    /// each point inverts A and appends φ_gp.
+    fn gauss_points(&mut self, xg: [[f64; 2]; 2], g: [usize; 2], base: usize) -> Result<()> {
+        let entries = g.map(|g| self.start[g] - base..self.end[g] - base);
+        let [a, b] = entries.clone().map(|r| &self.local[r]);
+        let moments = accumulate_moments(a, b);
+        for ((x, r), a) in xg.into_iter().zip(entries).zip(moments) {
+            let gathered = &self.local[r];
+            // A that cannot be inverted counts as κ₁ = ∞ (and is not recorded).
+            let (z, kappa) = inverse_first_row(&a).unwrap_or(([0.0; 3], f64::INFINITY));
+            if kappa.is_finite() {
+                self.largest_condition = self.largest_condition.max(kappa);
+            }
+            if kappa > MLS_MAX_CONDITION {
+                return Err(Error::SingularMoments {
+                    point: x.to_vec(),
+                    points_in_support: gathered.len(),
+                    condition_number: kappa,
+                    limit: MLS_MAX_CONDITION,
+                });
+            }
+            append_shape_functions(&mut self.phi, gathered, z);
         }
-        if kappa > MLS_MAX_CONDITION {
-            return Err(Error::SingularMoments {
-                point: xg.to_vec(),
-                points_in_support: gathered.len(),
-                condition_number: kappa,
-                limit: MLS_MAX_CONDITION,
-            });
-        }
-        append_shape_functions(&mut self.phi, gathered, z);
         Ok(())
     }
 }
@@ -446,41 +451,73 @@ impl GaussReconstruction for MlsShapes {
     }
 }
 
-/// The body of [`accumulate_moment`], inlined into its baseline and AVX2 copies.
-#[inline(always)]
-fn accumulate_moment_kernel(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> {
-    let mut a00 = 0.0;
-    // [A01, A02], [A11, A21], [A12, A22].
-    let (mut first, mut by_x, mut by_y) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-    for &(d, w) in gathered {
+/// The moment sums of one Gauss point: A₀₀, [A₀₁, A₀₂], [A₁₁, A₂₁] and
+/// [A₁₂, A₂₂] (MLS paper Eq. 10), each started at +0.
+#[derive(Clone, Copy, Default)]
+struct MomentSums {
+    a00: f64,
+    first: [f64; 2],
+    by_x: [f64; 2],
+    by_y: [f64; 2],
+}
+
+impl MomentSums {
+    /// Adds the gathered entry (d, w).
+    #[inline(always)]
+    fn add(&mut self, &(d, w): &([f64; 2], f64)) {
         let wd = [w * d[0], w * d[1]];
-        a00 += w;
+        self.a00 += w;
         // Lane by lane, which the compiler packs better than pairs.
+        #[allow(clippy::needless_range_loop)]
         for i in 0..2 {
-            first[i] += wd[i];
-            by_x[i] += wd[i] * d[0];
-            by_y[i] += wd[i] * d[1];
+            self.first[i] += wd[i];
+            self.by_x[i] += wd[i] * d[0];
+            self.by_y[i] += wd[i] * d[1];
         }
     }
-    #[rustfmt::skip]
-    let a = Matrix3::new(
-        a00, first[0], first[1],
-        first[0], by_x[0], by_y[0],
-        first[1], by_x[1], by_y[1],
-    );
-    a
+
+    /// A, symmetric where the products are.
+    #[inline(always)]
+    fn matrix(self) -> Matrix3<f64> {
+        let (first, by_x, by_y) = (self.first, self.by_x, self.by_y);
+        #[rustfmt::skip]
+        let a = Matrix3::new(
+            self.a00, first[0], first[1],
+            first[0], by_x[0], by_y[0],
+            first[1], by_x[1], by_y[1],
+        );
+        a
+    }
+}
+
+/// The body of [`accumulate_moments`], inlined into its baseline and AVX2 copies.
+#[inline(always)]
+fn accumulate_moments_kernel(a: &[([f64; 2], f64)], b: &[([f64; 2], f64)]) -> [Matrix3<f64>; 2] {
+    let common = a.len().min(b.len());
+    let (mut sums_a, mut sums_b) = (MomentSums::default(), MomentSums::default());
+    for (entry_a, entry_b) in a[..common].iter().zip(&b[..common]) {
+        sums_a.add(entry_a);
+        sums_b.add(entry_b);
+    }
+    a[common..].iter().for_each(|e| sums_a.add(e));
+    b[common..].iter().for_each(|e| sums_b.add(e));
+    [sums_a.matrix(), sums_b.matrix()]
 }
 
 crate::dispatch::avx2_when_available! {
     /// A = Σ_p w_p q_p q_pᵀ with q = [1, d_x, d_y] over the gathered
-    /// (w, d) (MLS paper Eq. 10), each entry summed in list order.
-    /// Entry (i, j) adds (w q_i) q_j: those with i = 0 or j = 0 are w q_j or
-    /// w q_i on both sides of the diagonal and are summed once; (1, 2) and
-    /// (2, 1) are not the same product and are summed each, as the two lanes
-    /// of a pair with (1, 1) and (2, 2). Not inlined, so that its sums stay in
-    /// registers. AVX2 where the processor has it ([`crate::dispatch`]).
+    /// (d, w) of two Gauss points a and b (MLS paper Eq. 10), each entry
+    /// summed in list order. Entry (i, j) adds (w q_i) q_j: those with
+    /// i = 0 or j = 0 are w q_j or w q_i on both sides of the diagonal and
+    /// are summed once; (1, 2) and (2, 1) are not the same product and are
+    /// summed each, as the two lanes of a pair with (1, 1) and (2, 2). The
+    /// two points' sums are independent chains of additions, which the
+    /// processor overlaps (one point's sums waited on each addition; issue
+    /// #39): while both lists have entries, one of each is added per round.
+    /// Not inlined, so that its sums stay in registers. AVX2 where the
+    /// processor has it ([`crate::dispatch`]).
     #[inline(never)]
-    fn accumulate_moment(gathered: &[([f64; 2], f64)]) -> Matrix3<f64> = accumulate_moment_kernel;
+    fn accumulate_moments(a: &[([f64; 2], f64)], b: &[([f64; 2], f64)]) -> [Matrix3<f64>; 2] = accumulate_moments_kernel;
 }
 
 /// One particle's 1D supports: along each axis, the first Gauss abscissa

@@ -25,8 +25,9 @@
 //! Items: [`evaluate_basis`], [`map_direct`], [`map_direct_reference`],
 //! [`map_reconstructed`], [`nodal_update`], [`update_particles`],
 //! [`end_of_step_velocity`], [`end_of_step_velocity_from_momentum`],
-//! [`update_deformation`] (and, from submodules, the fused
-//! `update_particles_and_end_momentum`,
+//! [`end_of_step_velocity_from_values`], [`update_deformation`] (and, from
+//! submodules, the fused `update_particles_and_end_momentum` and
+//! `update_particles_and_end_values`,
 //! the total-Lagrangian `update_deformation_reference` and other codes'
 //! phases).
 
@@ -34,7 +35,7 @@ use super::grid::Grid2d;
 use super::mapping::Mapping2d;
 use super::material::NeoHookean;
 use super::particles::Particles2d;
-use super::reconstruction::{storage_order, GaussGrid, GaussReconstruction};
+use super::reconstruction::{GaussGrid, GaussReconstruction};
 use super::workspace::StepWorkspace2d;
 use crate::basis::{with_width, Stencils};
 use crate::error::{Error, Result};
@@ -45,8 +46,11 @@ mod lists;
 mod other_codes;
 mod reference;
 mod rows;
-pub use fused::{fuses_end_of_step, update_particles_and_end_momentum};
-use lists::{gauss_point_momentum, gauss_point_values};
+pub use fused::{
+    fuses_end_of_step, fuses_end_values, update_particles_and_end_momentum,
+    update_particles_and_end_values,
+};
+use lists::{gauss_point_momentum, gauss_point_values, storage_pairs};
 use nalgebra::Matrix2;
 pub use other_codes::{
     map_direct_apic, move_particles, update_deformation_affine, update_particles_apic,
@@ -257,11 +261,13 @@ fn map_reconstructed_with(
             s[(0, 1)],
         ];
     }
-    for (gx, gy) in storage_order(grid.cells_per_side()) {
-        let g = gx + ng * gy;
-        let q = gauss_point_values(lists, g, &ws.particle_values);
-        ws.gauss_values[g] = q;
-        scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
+    for pair in storage_pairs(grid.cells_per_side()) {
+        let points = pair.map(|(gx, gy)| gx + ng * gy);
+        let sums = gauss_point_values(lists, points, &ws.particle_values);
+        for (((gx, gy), g), q) in pair.into_iter().zip(points).zip(sums) {
+            ws.gauss_values[g] = q;
+            scatter_gauss_point(grid, gx, gy, &q.map(|v| v * omega), ws);
+        }
     }
     Ok(())
 }
@@ -355,7 +361,7 @@ pub fn update_particles(
     if conventions.transfer == Transfer::Flip && conventions.positions == Positions::Grid {
         with_width!(
             grid.stencil_width(),
-            update_particles_with::<W>(grid, p, ws, dt)
+            update_particles_with::<W>(grid, p, ws, dt, |_, _| {})
         );
         return;
     }
@@ -363,12 +369,14 @@ pub fn update_particles(
 }
 
 /// [`update_particles`] for stencil width `W` (0: any width): both sums
-/// of Eqs. (29)–(30) in one pass over the stencil.
+/// of Eqs. (29)–(30) in one pass over the stencil; `moved(k, p)` is called
+/// once particle k has moved.
 fn update_particles_with<const W: usize>(
     grid: &Grid2d,
     p: &mut Particles2d,
     ws: &StepWorkspace2d,
     dt: f64,
+    mut moved: impl FnMut(usize, &Particles2d),
 ) {
     let n = grid.nodes_per_side();
     let w = if W == 0 { grid.stencil_width() } else { W };
@@ -386,6 +394,7 @@ fn update_particles_with<const W: usize>(
         p.x[k][0] += dt * v[0];
         p.x[k][1] += dt * v[1];
         p.displacement[k] = [p.x[k][0] - p.x0[k][0], p.x[k][1] - p.x0[k][1]];
+        moved(k, p);
     }
 }
 
@@ -400,37 +409,54 @@ pub fn end_of_step_velocity(
     ws: &mut StepWorkspace2d,
     mapping: Mapping2d,
 ) {
-    ws.momentum_end.iter_mut().for_each(|m| *m = [0.0; 2]);
-    let n = grid.nodes_per_side();
     match (mapping.reconstructs_end_of_step(), &ws.reconstruction) {
-        (true, Some(shapes)) => {
+        (true, Some(_)) => {
             // ρ_p and v_p^{t+1} side by side, for one read per list entry.
-            let particles = p.density.iter().zip(&p.velocity);
-            for (e, (&rho, v)) in ws.end_values.iter_mut().zip(particles) {
-                *e = [rho, v[0], v[1]];
+            for (k, e) in ws.end_values.iter_mut().enumerate() {
+                *e = end_value(p, k);
             }
-            let lists = shapes.lists();
-            let s = grid.gauss_stencils();
-            let ng = 2 * grid.cells_per_side();
-            let omega = grid.gauss_weight();
-            for (gx, gy) in storage_order(grid.cells_per_side()) {
-                let g = gx + ng * gy;
-                let q = gauss_point_momentum(lists, g, &ws.end_values);
-                scatter_vector(
-                    n,
-                    s,
-                    gx,
-                    s,
-                    gy,
-                    [q[0] * omega, q[1] * omega],
-                    &mut ws.momentum_end,
-                );
+            end_of_step_velocity_from_values(grid, ws);
+        }
+        _ => {
+            ws.momentum_end.iter_mut().for_each(|m| *m = [0.0; 2]);
+            with_width!(
+                grid.stencil_width(),
+                map_particle_momentum_with::<W>(grid, p, ws)
+            );
+            end_of_step_velocity_from_momentum(grid, ws);
+        }
+    }
+}
+
+/// [ρ_p, v_x, v_y] of particle k: what the reconstructed Eq. (31) reads
+/// of it (`StepWorkspace2d::end_values`).
+#[inline(always)]
+fn end_value(p: &Particles2d, k: usize) -> [f64; 3] {
+    let v = p.velocity[k];
+    [p.density[k], v[0], v[1]]
+}
+
+/// The reconstructed Eqs. (31)–(33) from [ρ_p, v_p^{t+1}] in
+/// `end_values`: (ρv)_g^L = Σ_p φ_gp ρ_p v_p^{t+1} with the φ_gp of phase
+/// 1, (mv)_i^L = Σ_g N_i (ρv)_g^L ω_g into `momentum_end` (zeroed first),
+/// then [`end_of_step_velocity_from_momentum`]. Without a reconstruction
+/// in the workspace, `momentum_end` stays zero.
+pub fn end_of_step_velocity_from_values(grid: &Grid2d, ws: &mut StepWorkspace2d) {
+    ws.momentum_end.iter_mut().for_each(|m| *m = [0.0; 2]);
+    if let Some(shapes) = &ws.reconstruction {
+        let n = grid.nodes_per_side();
+        let lists = shapes.lists();
+        let s = grid.gauss_stencils();
+        let ng = 2 * grid.cells_per_side();
+        let omega = grid.gauss_weight();
+        for pair in storage_pairs(grid.cells_per_side()) {
+            let points = pair.map(|(gx, gy)| gx + ng * gy);
+            let sums = gauss_point_momentum(lists, points, &ws.end_values);
+            for ((gx, gy), q) in pair.into_iter().zip(sums) {
+                let q = [q[0] * omega, q[1] * omega];
+                scatter_vector(n, s, gx, s, gy, q, &mut ws.momentum_end);
             }
         }
-        _ => with_width!(
-            grid.stencil_width(),
-            map_particle_momentum_with::<W>(grid, p, ws)
-        ),
     }
     end_of_step_velocity_from_momentum(grid, ws);
 }

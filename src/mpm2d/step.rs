@@ -61,10 +61,11 @@ use serde::{Deserialize, Serialize};
 
 pub use super::mapping::{Mapping2d, MappingInfo};
 pub use super::phases::{
-    end_of_step_velocity, end_of_step_velocity_from_momentum, evaluate_basis, fuses_end_of_step,
-    map_direct, map_direct_apic, map_direct_reference, map_reconstructed, move_particles,
-    nodal_update, update_deformation, update_deformation_affine, update_deformation_reference,
-    update_particles, update_particles_and_end_momentum, update_particles_apic,
+    end_of_step_velocity, end_of_step_velocity_from_momentum, end_of_step_velocity_from_values,
+    evaluate_basis, fuses_end_of_step, fuses_end_values, map_direct, map_direct_apic,
+    map_direct_reference, map_reconstructed, move_particles, nodal_update, update_deformation,
+    update_deformation_affine, update_deformation_reference, update_particles,
+    update_particles_and_end_momentum, update_particles_and_end_values, update_particles_apic,
 };
 pub use super::workspace::{Conservation2d, StepWorkspace2d};
 
@@ -354,6 +355,11 @@ impl Simulation2d {
             let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
             update_particles_and_end_momentum(grid, p, ws, dt);
             end_of_step_velocity_from_momentum(grid, ws);
+        } else if !O::OBSERVES && fuses_end_values(conventions, mapping) {
+            // Eqs. (29)–(30) gathering [ρ_p, v_p] as they go, then (31)–(33).
+            let (grid, p, ws) = (&self.grid, &mut self.particles, &mut self.workspace);
+            update_particles_and_end_values(grid, p, ws, dt);
+            end_of_step_velocity_from_values(grid, ws);
         } else {
             let (grid, p, ws) = (&self.grid, &mut self.particles, &self.workspace);
             if conventions.transfer == Transfer::Apic {

@@ -11,9 +11,16 @@
 //! both ways give the same bits (tests/spec/speed/step_2d.rs). Each nodal
 //! array is read and written a stencil row at a time (`for_each_row`).
 //!
-//! Items: [`update_particles_and_end_momentum`], [`fuses_end_of_step`].
+//! A reconstructed end of step (MLS or TLS) scatters through the Gauss
+//! points instead, which need every particle moved first; what one loop
+//! can do there is gather each moved particle's [ρ_p, v_p^{t+1}] for
+//! Eq. (31) while it is at hand ([`update_particles_and_end_values`]),
+//! instead of in a pass of its own.
+//!
+//! Items: [`update_particles_and_end_momentum`], [`fuses_end_of_step`],
+//! [`update_particles_and_end_values`], [`fuses_end_values`].
 
-use super::particle_stencils;
+use super::{end_value, particle_stencils, update_particles_with};
 use crate::basis::with_width;
 use crate::mpm::conventions::{Conventions, Positions, Scheme, Transfer};
 use crate::mpm2d::grid::Grid2d;
@@ -30,6 +37,45 @@ pub fn fuses_end_of_step(conventions: Conventions, mapping: Mapping2d) -> bool {
         && conventions.positions == Positions::Grid
         && conventions.scheme != Scheme::Usl
         && !mapping.reconstructs_end_of_step()
+}
+
+/// Whether a step with these conventions and mapping may run
+/// [`update_particles_and_end_values`]: the paper's phase 3 (FLIP with the
+/// grid's positions), the MUSL end of step and a reconstructed end-of-step
+/// mapping.
+pub fn fuses_end_values(conventions: Conventions, mapping: Mapping2d) -> bool {
+    conventions.transfer == Transfer::Flip
+        && conventions.positions == Positions::Grid
+        && conventions.scheme != Scheme::Usl
+        && mapping.reconstructs_end_of_step()
+}
+
+/// Eqs. (29)–(30) of [`super::update_particles`] and, for each particle as
+/// it moves, its [ρ_p, v_p^{t+1}] into `end_values`, which
+/// [`super::end_of_step_velocity_from_values`] maps (Eqs. 31–33).
+pub fn update_particles_and_end_values(
+    grid: &Grid2d,
+    p: &mut Particles2d,
+    ws: &mut StepWorkspace2d,
+    dt: f64,
+) {
+    // Taken out of the workspace for the loop (a move, not a copy), so the
+    // loop reads the nodal arrays while it writes these.
+    let mut values = std::mem::take(&mut ws.end_values);
+    if values.len() == p.len() {
+        let gather = |k: usize, p: &Particles2d| values[k] = end_value(p, k);
+        with_width!(
+            grid.stencil_width(),
+            update_particles_with::<W>(grid, p, ws, dt, gather)
+        );
+    } else {
+        // No reconstruction reserved them: phase 3 alone.
+        with_width!(
+            grid.stencil_width(),
+            update_particles_with::<W>(grid, p, ws, dt, |_, _| {})
+        );
+    }
+    ws.end_values = values;
 }
 
 /// Eqs. (29)–(30) of [`super::update_particles`] and then, for the same
