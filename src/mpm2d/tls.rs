@@ -364,17 +364,21 @@ impl TlsShapes {
 
 /// D = Σ_p ψ̂(x_p) ψ̂(x_p)ᵀ over the M functions ψ_{skip+1} … ψ_{skip+M}
 /// (TLS paper Eq. 13's normal matrix), accumulated particle by particle.
+/// Only D_ij with i ≤ j is summed, and D_ji is that sum: each term of D_ji
+/// is ψ̂_j ψ̂_i, the same product as ψ̂_i ψ̂_j (IEEE 754 multiplication is
+/// commutative), added in the same order, so the two sums have one value
+/// bit for bit.
 fn normal_matrix<const M: usize>(rows: &[[f64; 6]], skip: usize) -> [[f64; M]; M] {
     let mut d = [[0.0; M]; M];
     for row in rows {
         let r = &row[skip..skip + M];
-        for (d_i, r_i) in d.iter_mut().zip(r) {
-            for (d_ij, r_j) in d_i.iter_mut().zip(r) {
+        for (i, (d_i, r_i)) in d.iter_mut().zip(r).enumerate() {
+            for (d_ij, r_j) in d_i[i..].iter_mut().zip(&r[i..]) {
                 *d_ij += r_i * r_j;
             }
         }
     }
-    d
+    std::array::from_fn(|i| std::array::from_fn(|j| d[i.min(j)][i.max(j)]))
 }
 
 /// The body of [`normal_solve`], inlined into its baseline and AVX2 copies.
