@@ -1,13 +1,11 @@
 //! Issue #39, the reconstructed 2D step (MLS, TLS, PU-TLS): what was made
 //! faster computes the same bits. The Gauss points' sums (MLS paper
 //! Eqs. 18–21 and 31) are formed two points at a time, each in its own
-//! list's order, and a step nobody observes gathers each moved particle's
-//! [ρ_p, v_p] for Eq. (31) in phase 3's loop instead of a pass of its own.
+//! list's order. (The end of step that gathers [ρ_p, v_p] as the particles
+//! move is compared with the observed step's in step_2d.rs.)
 
 use hompm::mpm2d::reconstruction::storage_order;
-use hompm::mpm2d::step::{
-    fuses_end_of_step, fuses_end_values, Mapping2d, Simulation2d, StepObserver2d, StepPoint2d,
-};
+use hompm::mpm2d::step::{Mapping2d, Simulation2d, StepObserver2d, StepPoint2d};
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use hompm::Result;
 
@@ -22,11 +20,12 @@ fn simulation(mapping: Mapping2d, cells: usize) -> Simulation2d {
 }
 
 /// Σ_p φ_gp f_p over Gauss point g's list, one entry after the other in
-/// list order from +0: the sum of one point at a time.
+/// list order from +0 (`term(φ_gp, p)` is the entry's term): the sum of
+/// one point at a time.
 fn one_point_sum<const N: usize>(
     sim: &Simulation2d,
     g: usize,
-    term: impl Fn(usize) -> [f64; N],
+    term: impl Fn(f64, usize) -> [f64; N],
 ) -> [f64; N] {
     let lists = sim.workspace.reconstruction.as_ref().unwrap().lists();
     let entries = lists.start[g]..lists.end[g];
@@ -34,9 +33,23 @@ fn one_point_sum<const N: usize>(
         .iter()
         .zip(&lists.phi[entries]);
     pairs.fold([0.0; N], |q, (&k, &phi)| {
-        let f = term(k as usize);
-        std::array::from_fn(|i| q[i] + phi * f[i])
+        let t = term(phi, k as usize);
+        std::array::from_fn(|i| q[i] + t[i])
     })
+}
+
+/// `steps` steps of BSMPM p = 2 with `mapping` on 6 cells, each observed.
+fn observed_run<O: StepObserver2d>(
+    mapping: Mapping2d,
+    steps: usize,
+    observer: &mut O,
+) -> Simulation2d {
+    let dt = parameters("mls-paper-e1e7").unwrap().dt;
+    let mut sim = simulation(mapping, 6);
+    for _ in 0..steps {
+        sim.step_observed(dt, observer).unwrap();
+    }
+    sim
 }
 
 /// After phase 1, every Gauss point's eight values against the sum of one
@@ -57,7 +70,8 @@ impl StepObserver2d for OnePointAtATime {
         let ng = 2 * sim.grid.cells_per_side();
         for (gx, gy) in storage_order(sim.grid.cells_per_side()) {
             let g = gx + ng * gy;
-            let expected = one_point_sum(sim, g, |k| ws.particle_values[k]);
+            let d = |k: usize| ws.particle_values[k];
+            let expected = one_point_sum(sim, g, |phi, k| d(k).map(|f| phi * f));
             assert_eq!(
                 format!("{:?}", ws.gauss_values[g]),
                 format!("{expected:?}"),
@@ -82,13 +96,9 @@ impl StepObserver2d for OnePointAtATime {
 /// with MLS, paired lists of different lengths occur.
 #[test]
 fn two_gauss_points_summed_at_once_give_the_bits_of_one_point_at_a_time() {
-    let dt = parameters("mls-paper-e1e7").unwrap().dt;
     for mapping in RECONSTRUCTED {
-        let mut sim = simulation(mapping, 6);
         let mut check = OnePointAtATime::default();
-        for _ in 0..60 {
-            sim.step_observed(dt, &mut check).unwrap();
-        }
+        observed_run(mapping, 60, &mut check);
         assert_eq!(check.checked, 60 * 4 * 36, "{mapping:?}");
         if mapping == Mapping2d::Mls {
             assert!(check.unequal_pairs > 0);
@@ -116,18 +126,10 @@ impl StepObserver2d for EndMomentumOnePointAtATime {
         let mut expected = vec![[0.0; 2]; sim.workspace.momentum_end.len()];
         for (gx, gy) in storage_order(grid.cells_per_side()) {
             // φ ρ v is formed as (φ ρ) v, not φ (ρ v).
-            let q = {
-                let lists = sim.workspace.reconstruction.as_ref().unwrap().lists();
-                let g = gx + ng * gy;
-                let entries = lists.start[g]..lists.end[g];
-                let pairs = lists.particle[entries.clone()]
-                    .iter()
-                    .zip(&lists.phi[entries]);
-                pairs.fold([0.0; 2], |q, (&k, &phi)| {
-                    let (rho, v) = (p.density[k as usize], p.velocity[k as usize]);
-                    [q[0] + phi * rho * v[0], q[1] + phi * rho * v[1]]
-                })
-            };
+            let q = one_point_sum(sim, gx + ng * gy, |phi, k| {
+                let (rho, v) = (p.density[k], p.velocity[k]);
+                [phi * rho * v[0], phi * rho * v[1]]
+            });
             let q = [q[0] * omega, q[1] * omega];
             let (vx, vy) = (&s.values[gx * w..][..w], &s.values[gy * w..][..w]);
             for (b, &nb) in vy.iter().enumerate() {
@@ -154,13 +156,9 @@ impl StepObserver2d for EndMomentumOnePointAtATime {
 /// bit the scatter of the one-point sums, and not zero.
 #[test]
 fn the_end_of_step_momentum_summed_two_points_at_a_time_is_that_of_one_point_at_a_time() {
-    let dt = parameters("mls-paper-e1e7").unwrap().dt;
     for mapping in RECONSTRUCTED {
-        let mut sim = simulation(mapping, 6);
         let mut check = EndMomentumOnePointAtATime::default();
-        for _ in 0..40 {
-            sim.step_observed(dt, &mut check).unwrap();
-        }
+        let sim = observed_run(mapping, 40, &mut check);
         assert_eq!(check.checked, 40, "{mapping:?}");
         let largest = sim
             .workspace
@@ -169,54 +167,5 @@ fn the_end_of_step_momentum_summed_two_points_at_a_time_is_that_of_one_point_at_
             .map(|m| m[0].abs())
             .fold(0.0, f64::max);
         assert!(largest > 0.0, "{mapping:?}");
-    }
-}
-
-/// An observer that looks at every point and changes nothing: the step
-/// takes one pass per phase.
-struct Looks;
-
-impl StepObserver2d for Looks {
-    fn observe(&mut self, _: StepPoint2d, _: &mut Simulation2d) -> Result<()> {
-        Ok(())
-    }
-}
-
-/// A step nobody observes gathers [ρ_p, v_p] in phase 3's loop
-/// (`update_particles_and_end_values`); the observed step packs them in
-/// `end_of_step_velocity`. After 150 steps of MLS, TLS and PU-TLS, the
-/// particles, the end-of-step nodal arrays and the record agree bit for bit.
-#[test]
-fn the_reconstructed_end_of_step_gathering_as_particles_move_computes_the_bits_of_the_two_passes() {
-    let dt = parameters("mls-paper-e1e7").unwrap().dt;
-    for mapping in RECONSTRUCTED {
-        let (mut fused, mut passes) = (simulation(mapping, 6), simulation(mapping, 6));
-        let conventions = fused.settings.conventions;
-        assert!(fuses_end_values(conventions, mapping));
-        assert!(!fuses_end_of_step(conventions, mapping));
-        for _ in 0..150 {
-            fused.step(dt).unwrap();
-            passes.step_observed(dt, &mut Looks).unwrap();
-        }
-        assert_eq!(
-            format!("{:?}", fused.particles),
-            format!("{:?}", passes.particles)
-        );
-        let (a, b) = (&fused.workspace, &passes.workspace);
-        assert_eq!(format!("{:?}", a.end_values), format!("{:?}", b.end_values));
-        assert_eq!(
-            format!("{:?}", a.momentum_end),
-            format!("{:?}", b.momentum_end)
-        );
-        assert_eq!(
-            format!("{:?}", a.velocity_end),
-            format!("{:?}", b.velocity_end)
-        );
-        assert_eq!(
-            format!("{:?}", fused.conservation),
-            format!("{:?}", passes.conservation)
-        );
-        let moved = fused.particles.displacement.iter().map(|u| u[0].abs());
-        assert!(moved.fold(0.0, f64::max) > 1e-4, "{mapping:?}");
     }
 }

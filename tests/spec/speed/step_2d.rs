@@ -4,13 +4,15 @@
 //! it without changing the particles; the neo-Hookean σ is formed entry by
 //! entry with the bits of its matrix expression; a step nobody observes
 //! fuses phase 3 with the end-of-step scatter and gets the bits of the
-//! two passes; the basis of both axes is evaluated in paired lanes with
-//! the bits of one axis at a time.
+//! two passes (and, with a reconstruction, gathers [ρ_p, v_p] as the
+//! particles move, with the bits of a pass of its own); the basis of both
+//! axes is evaluated in paired lanes with the bits of one axis at a time.
 
 use hompm::mpm::diagnostics::compensated_sum;
 use hompm::mpm2d::material::NeoHookean;
 use hompm::mpm2d::step::{
-    evaluate_basis, fuses_end_of_step, Conservation2d, Simulation2d, StepObserver2d, StepPoint2d,
+    evaluate_basis, fuses_end_of_step, fuses_end_values, Conservation2d, Mapping2d, Simulation2d,
+    StepObserver2d, StepPoint2d,
 };
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use hompm::Result;
@@ -157,6 +159,37 @@ impl StepObserver2d for Looks {
     }
 }
 
+/// Steps `fused` and `passes` (the same simulation) 300 times, the first
+/// unobserved, the second observed at every point, and compares their
+/// particles, end-of-step arrays and records bit for bit.
+fn assert_fused_and_passes_agree(mut fused: Simulation2d, mut passes: Simulation2d) {
+    let dt = parameters("mls-paper-e1e7").unwrap().dt;
+    for _ in 0..300 {
+        fused.step(dt).unwrap();
+        passes.step_observed(dt, &mut Looks).unwrap();
+    }
+    assert_eq!(
+        format!("{:?}", fused.particles),
+        format!("{:?}", passes.particles)
+    );
+    let (a, b) = (&fused.workspace, &passes.workspace);
+    for (x, y) in [
+        (&a.momentum_end, &b.momentum_end),
+        (&a.velocity_end, &b.velocity_end),
+        (&a.velocity_next, &b.velocity_next),
+    ] {
+        assert_eq!(format!("{x:?}"), format!("{y:?}"));
+    }
+    assert_eq!(format!("{:?}", a.end_values), format!("{:?}", b.end_values));
+    assert_eq!(
+        format!("{:?}", fused.conservation),
+        format!("{:?}", passes.conservation)
+    );
+    assert_eq!(fused.time, passes.time);
+    let moved = fused.particles.displacement.iter().map(|u| u[0].abs());
+    assert!(moved.fold(0.0, f64::max) > 1e-4);
+}
+
 /// A step nobody observes runs phase 3 and the end-of-step scatter in one
 /// particle loop (`update_particles_and_end_momentum`); the observed step
 /// runs `update_particles` and `end_of_step_velocity`. After 300 steps of
@@ -164,45 +197,32 @@ impl StepObserver2d for Looks {
 /// array agree bit for bit.
 #[test]
 fn the_fused_end_of_step_computes_the_bits_of_the_two_passes() {
-    let dt = parameters("mls-paper-e1e7").unwrap().dt;
     for method in [
         AlignedMethod::bsmpm(2),
         AlignedMethod::bsmpm(3),
         AlignedMethod::Mpm,
     ] {
-        let (mut fused, mut passes) = (simulation(method, 8), simulation(method, 8));
-        assert!(fuses_end_of_step(
-            fused.settings.conventions,
-            fused.settings.mapping
-        ));
-        for _ in 0..300 {
-            fused.step(dt).unwrap();
-            passes.step_observed(dt, &mut Looks).unwrap();
-        }
-        assert_eq!(
-            format!("{:?}", fused.particles),
-            format!("{:?}", passes.particles)
-        );
-        let (a, b) = (&fused.workspace, &passes.workspace);
-        assert_eq!(
-            format!("{:?}", a.momentum_end),
-            format!("{:?}", b.momentum_end)
-        );
-        assert_eq!(
-            format!("{:?}", a.velocity_end),
-            format!("{:?}", b.velocity_end)
-        );
-        assert_eq!(
-            format!("{:?}", a.velocity_next),
-            format!("{:?}", b.velocity_next)
-        );
-        assert_eq!(
-            format!("{:?}", fused.conservation),
-            format!("{:?}", passes.conservation)
-        );
-        assert_eq!(fused.time, passes.time);
-        let moved = fused.particles.displacement.iter().map(|u| u[0].abs());
-        assert!(moved.fold(0.0, f64::max) > 1e-4);
+        let fused = simulation(method, 8);
+        let (conventions, mapping) = (fused.settings.conventions, fused.settings.mapping);
+        assert!(fuses_end_of_step(conventions, mapping));
+        assert_fused_and_passes_agree(fused, simulation(method, 8));
+    }
+}
+
+/// With a reconstruction (MLS, TLS, PU-TLS), a step nobody observes
+/// gathers each particle's [ρ_p, v_p] in phase 3's loop
+/// (`update_particles_and_end_values`); the observed step packs them in
+/// `end_of_step_velocity`. After 300 steps the particles, the end-of-step
+/// arrays, the gathered values and the record agree bit for bit.
+#[test]
+fn the_reconstructed_end_of_step_gathering_as_particles_move_computes_the_bits_of_the_two_passes() {
+    for mapping in [Mapping2d::Mls, Mapping2d::Tls, Mapping2d::PuTls] {
+        let method = AlignedMethod::bsmpm_with(2, mapping);
+        let fused = simulation(method, 6);
+        let conventions = fused.settings.conventions;
+        assert!(fuses_end_values(conventions, mapping));
+        assert!(!fuses_end_of_step(conventions, mapping));
+        assert_fused_and_passes_agree(fused, simulation(method, 6));
     }
 }
 
