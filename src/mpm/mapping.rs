@@ -45,7 +45,7 @@
 //!
 //! ## How to add a 1D mapping
 //! 1. Implement [`Reconstruction`] and [`Reconstruction1d`] in a new child
-//!    module, src/mpm/mapping/<name>.rs (as [`tls`] and [`spline`] do), and
+//!    module, `src/mpm/mapping/<name>.rs` (as [`tls`] and [`spline`] do), and
 //!    declare it below.
 //! 2. Register it here: one variant of [`Mapping`] (and in
 //!    [`Mapping::ALL`]), its arm in [`Mapping::info`] and its arm in

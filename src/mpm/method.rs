@@ -140,11 +140,11 @@ pub struct MethodFamily {
 /// The registration of the 1D methods on the command line.
 ///
 /// ## How to add a 1D basis
-/// 1. Implement [`Basis1d`] (and `evaluate_into` for the batch evaluation)
+/// 1. Implement [`Basis1d`](crate::basis::Basis1d) (and `evaluate_into` for the batch evaluation)
 ///    in a module of the basis layer, declared in its `mod.rs`.
 /// 2. Register it here: a [`Method`] variant, its arms in
 ///    [`Method::label`], [`Method::functions_per_particle`] and
-///    [`Grid::new`], and its family in this list.
+///    [`Grid::new`](crate::mpm::grid::Grid::new), and its family in this list.
 ///
 /// That is three files (the basis, its `mod.rs` and this one); the command
 /// line, the run estimates, the stability monitor and the report take the

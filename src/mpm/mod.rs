@@ -32,7 +32,7 @@ pub mod particles;
 pub mod settings;
 pub mod workspace;
 
-/// The time step of a step must be positive and finite: [`Error::NotPositive`]
+/// The time step of a step must be positive and finite: [`Error::NotPositive`](crate::error::Error::NotPositive)
 /// naming "the time step" otherwise. The 1D step (`musl`), the 2D step
 /// (`mpm2d::step`) and the updated-Lagrangian FE reference (`fem::ulfem`)
 /// all check Δt here.

@@ -143,11 +143,11 @@ impl MlsShapes {
     /// `cell_y`. Errors for a singular moment matrix.
     ///
     /// Row of cells by row of cells: the particles of the rows within reach
-    /// weigh themselves along each axis ([`MlsShapes::weigh_row`], Eq. 17),
+    /// weigh themselves along each axis (`MlsShapes::weigh_row`, Eq. 17),
     /// the list of every point of the row is sized and placed
-    /// ([`MlsShapes::lay_out_row`]), the lists of the row are filled
-    /// ([`MlsShapes::gather`], Eq. 16) and each point solves its moment
-    /// system ([`MlsShapes::gauss_points`], Eqs. 10 and 14). The lists are
+    /// (`MlsShapes::lay_out_row`), the lists of the row are filled
+    /// (`MlsShapes::gather`, Eq. 16) and each point solves its moment
+    /// system (`MlsShapes::gauss_points`, Eqs. 10 and 14). The lists are
     /// laid out as before the rows were interleaved (all weighed, then all
     /// placed): row-major over the cells, so a row's places depend only on
     /// the rows before it.

@@ -8,11 +8,11 @@
 //! `trace` and `check` all call these, so they run the same steps.
 //!
 //! [`trace_1d`] runs a 1D setup with the trace recorder inside, and
-//! [`reference`] gives hompm's final state (and trace) that `hompm check`
+//! [`reference`](fn@reference) gives hompm's final state (and trace) that `hompm check`
 //! compares with.
 //!
 //! Items: [`run_1d`], [`run_2d`], [`run_2d_observed`], [`Run1d`], [`Run2d`],
-//! [`trace_1d`], [`trace_2d`], [`reference`].
+//! [`trace_1d`], [`trace_2d`], [`reference`](fn@reference).
 
 use super::setup::{Setup, Setup1d, Setup2d};
 use super::state::{state_1d, state_2d, State};

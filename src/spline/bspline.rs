@@ -290,7 +290,7 @@ impl KnotVector {
     /// [`KnotVector::values_and_gradients_into`] for a degree known when
     /// compiling, W = p + 1 (the step's hot path: the triangle lives in
     /// registers, not in a scratch). The same operations in the same order as
-    /// [`cox_de_boor_triangle`] and the derivative of Eq. (4.23), so the numbers
+    /// `cox_de_boor_triangle` and the derivative of Eq. (4.23), so the numbers
     /// are bit for bit those of the general code (tests/spec/properties/properties_bspline.rs).
     /// The caller guarantees W = p + 1. Always inlined: once
     /// `Grid::fill_stencils` became generic over the points' type (1D

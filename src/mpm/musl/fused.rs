@@ -52,7 +52,7 @@ impl Simulation {
     /// the book's conventions, the direct mapping for both transfers, a
     /// lumped mass (also in step 2), no manufactured body force field, the
     /// small- or large-strain law, and a grid that
-    /// [`fills a fixed width`](crate::mpm::grid::Grid::fills_fixed_width).
+    /// fills a fixed width (`Grid::fills_fixed_width`).
     pub fn step_is_fused(&self) -> bool {
         let s = &self.settings;
         !s.conventions.needs_grid_velocity()

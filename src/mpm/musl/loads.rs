@@ -19,7 +19,7 @@ impl Simulation {
     }
 
     /// The gravity that loads the step of size Δt starting now: g(tⁿ), or
-    /// g(tⁿ⁺¹) for a ramp read at the step's end ([`GravityRamp::read_time`]).
+    /// g(tⁿ⁺¹) for a ramp read at the step's end ([`GravityRamp::read_time`](crate::mpm::settings::GravityRamp::read_time)).
     pub fn gravity_in_step(&self, dt: f64) -> f64 {
         match self.settings.gravity_ramp {
             Some(ramp) => self.gravity_at(ramp.read_time(self.time, dt)),
