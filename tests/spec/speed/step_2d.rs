@@ -8,6 +8,7 @@
 //! particles move, with the bits of a pass of its own); the basis of both
 //! axes is evaluated in paired lanes with the bits of one axis at a time.
 
+use hompm::mpm::conventions::{Conventions, Positions, Scheme, Transfer};
 use hompm::mpm::diagnostics::compensated_sum;
 use hompm::mpm2d::material::NeoHookean;
 use hompm::mpm2d::step::{
@@ -223,6 +224,42 @@ fn the_reconstructed_end_of_step_gathering_as_particles_move_computes_the_bits_o
         assert!(fuses_end_values(conventions, mapping));
         assert!(!fuses_end_of_step(conventions, mapping));
         assert_fused_and_passes_agree(fused, simulation(method, 6));
+    }
+}
+
+/// Another code's conventions (PIC, a FLIP/PIC blend, the projected
+/// positions, USL) take neither fused end of step: with MLS, the step
+/// nobody observes computes the observed step's bits for each.
+#[test]
+fn other_codes_conventions_with_a_reconstruction_take_the_passes() {
+    let scene = parameters("mls-paper-e1e7").unwrap();
+    let method = AlignedMethod::bsmpm_with(2, Mapping2d::Mls);
+    let paper = Conventions::MLS_PAPER;
+    for conventions in [
+        Conventions {
+            transfer: Transfer::Pic,
+            ..paper
+        },
+        Conventions {
+            transfer: Transfer::Blend(0.5),
+            ..paper
+        },
+        Conventions {
+            positions: Positions::Projected,
+            ..paper
+        },
+        Conventions {
+            scheme: Scheme::Usl,
+            ..paper
+        },
+    ] {
+        assert!(!fuses_end_values(conventions, Mapping2d::Mls));
+        let run = || {
+            scene
+                .simulation_with(method, 6, 3, 1.0, conventions)
+                .unwrap()
+        };
+        assert_fused_and_passes_agree(run(), run());
     }
 }
 
