@@ -11,7 +11,7 @@
 //! - maximal strain, lumped-mass sign, and energy.
 //!
 //! Items: [`rms_error`], [`relative_l2_error`], [`compensated_sum`],
-//! [`CompensatedSum`], [`RunDiagnostics`].
+//! [`CompensatedSum`], [`RunDiagnostics`], [`LumpedMassScan`].
 
 use super::mapping::{running_max, running_min, Projection};
 use crate::error::{Error, Result};
@@ -158,21 +158,52 @@ pub struct RunDiagnostics {
     pub final_energy: f64,
 }
 
+/// What [`RunDiagnostics::record_lumped_masses`] records of one step's
+/// lumped masses, node by node: the smallest non-zero one in a running
+/// minimum (one comparison each, `running_min`; merged into the record by
+/// `f64::min`) and whether one is negative.
+#[derive(Debug, Clone, Copy)]
+pub struct LumpedMassScan {
+    negative: bool,
+    smallest: f64,
+}
+
+impl Default for LumpedMassScan {
+    fn default() -> Self {
+        Self {
+            negative: false,
+            smallest: f64::INFINITY,
+        }
+    }
+}
+
+impl LumpedMassScan {
+    /// Takes in the lumped mass m_i of one node (zero masses are skipped).
+    #[inline(always)]
+    pub fn add(&mut self, m: f64) {
+        if m != 0.0 {
+            self.negative |= m < 0.0;
+            self.smallest = running_min(self.smallest, m);
+        }
+    }
+}
+
 /// The recorder: every monitor of a run is updated here, by the step
 /// functions of `mpm::musl`, after the physics of the step is done.
 impl RunDiagnostics {
     /// Step 2's lumped masses m_i: the smallest non-zero one, and one more
     /// step with a negative mass if any is (P2, thesis §5.2).
     pub fn record_lumped_masses(&mut self, masses: &[f64]) {
-        // The smallest in a local running minimum (no store per node, one
-        // comparison each: `running_min`), then merged by `f64::min`.
-        let (mut negative, mut smallest) = (false, f64::INFINITY);
-        for &m in masses.iter().filter(|&&m| m != 0.0) {
-            negative |= m < 0.0;
-            smallest = running_min(smallest, m);
-        }
-        self.min_lumped_mass = self.min_lumped_mass.min(smallest);
-        if negative {
+        let mut scan = LumpedMassScan::default();
+        masses.iter().for_each(|&m| scan.add(m));
+        self.record_lumped_mass_scan(scan);
+    }
+
+    /// [`RunDiagnostics::record_lumped_masses`] from a scan that a loop over
+    /// the nodes has already made (the step's Eq. 4.8 loop).
+    pub fn record_lumped_mass_scan(&mut self, scan: LumpedMassScan) {
+        self.min_lumped_mass = self.min_lumped_mass.min(scan.smallest);
+        if scan.negative {
             self.negative_mass_steps += 1;
         }
     }

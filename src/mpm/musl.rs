@@ -46,7 +46,7 @@
 //! [`StepObserver`], [`NoObserver`], [`StepSummary`].
 
 use super::conventions::{BodyForceAt, Positions, Scheme, Transfer};
-use super::diagnostics::RunDiagnostics;
+use super::diagnostics::{LumpedMassScan, RunDiagnostics};
 use super::grid::Grid;
 use super::mapping::{internal_force, project_velocity};
 use super::particles::Particles;
@@ -380,20 +380,24 @@ impl Simulation {
     /// with mass (a_i = 0 elsewhere). With
     /// `consistent_acceleration` the material-point consistent mass replaces
     /// m_i (book Eq. 4.1). Negative lumped masses (P2, thesis §5.2) are
-    /// recorded.
+    /// recorded, in the same pass over the nodes.
     fn nodal_acceleration(&mut self) -> Result<()> {
         let ws = &mut self.workspace;
         let loads = ws.traction_force.iter().zip(&ws.gravity_force);
         let nodes = ws.acceleration.iter_mut().zip(&ws.mass);
+        let (mut scan, records) = (LumpedMassScan::default(), self.records_diagnostics);
         for ((a, &m), ((&trac, &grav), &int)) in nodes.zip(loads.zip(&ws.internal_force)) {
             *a = if m != 0.0 {
                 (trac + grav - int) / m
             } else {
                 0.0
             };
+            if records {
+                scan.add(m);
+            }
         }
-        if self.records_diagnostics {
-            self.diagnostics.record_lumped_masses(&ws.mass);
+        if records {
+            self.diagnostics.record_lumped_mass_scan(scan);
         }
         if self.settings.consistent_acceleration {
             self.consistent_nodal_acceleration()?;

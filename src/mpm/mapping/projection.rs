@@ -69,16 +69,16 @@ pub fn solve_projection(
     ws: &mut MappingWorkspace,
 ) -> Result<usize> {
     let n = ws.diagonal.len();
-    ws.solve.active.clear();
-    ws.solve
-        .active
-        .extend((0..n).filter(|&i| ws.diagonal[i] != 0.0));
     ws.velocity.clear();
-    ws.velocity.resize(n, 0.0);
     let mut iterations = 0;
     ws.solver_residual = 0.0;
     match (mass, consistent) {
         (MassMatrix::Consistent(solver), Some(full)) => {
+            ws.velocity.resize(n, 0.0);
+            ws.solve.active.clear();
+            ws.solve
+                .active
+                .extend((0..n).filter(|&i| ws.diagonal[i] != 0.0));
             let sub = full.submatrix(&ws.solve.active, &ws.solve.active);
             ws.solve.rhs.clear();
             ws.solve
@@ -103,10 +103,11 @@ pub fn solve_projection(
             }
         }
         _ => {
-            let (velocity, momentum, lumped) = (&mut ws.velocity[..n], &ws.momentum, &ws.lumped);
-            for &i in &ws.solve.active {
-                velocity[i] = momentum[i] / lumped[i];
-            }
+            // v_i = p_i / M^L_i where M_ii ≠ 0, else +0: one pass over the DOFs.
+            let (momentum, lumped) = (&ws.momentum[..n], &ws.lumped[..n]);
+            let dofs = ws.diagonal.iter().zip(momentum).zip(lumped);
+            let velocity = dofs.map(|((&d, &p), &m)| if d != 0.0 { p / m } else { 0.0 });
+            ws.velocity.extend(velocity);
         }
     }
     ws.solver_iterations = iterations;
