@@ -11,7 +11,7 @@
 //! both ways give the same bits (tests/spec/speed/step_2d.rs). Each nodal
 //! array is read and written a stencil row at a time (`for_each_row`).
 //!
-//! A reconstructed end of step (MLS or TLS) scatters through the Gauss
+//! A reconstructed end of step (MLS, TLS, PU-TLS) scatters through the Gauss
 //! points instead, which need every particle moved first; what one loop
 //! can do there is gather each moved particle's [ρ_p, v_p^{t+1}] for
 //! Eq. (31) while it is at hand ([`update_particles_and_end_values`]),
