@@ -69,6 +69,13 @@ pub fn solve_projection(
     ws: &mut MappingWorkspace,
 ) -> Result<usize> {
     let n = ws.diagonal.len();
+    if ws.momentum.len() < n || ws.lumped.len() < n {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "the projection has {n} DOFs but {} momenta and {} lumped masses",
+            ws.momentum.len(),
+            ws.lumped.len()
+        )));
+    }
     ws.velocity.clear();
     let mut iterations = 0;
     ws.solver_residual = 0.0;

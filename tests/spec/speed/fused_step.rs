@@ -326,6 +326,27 @@ fn a_projection_that_reaches_no_node_records_a_diagonal_ratio_of_zero() {
     assert_eq!(record.grid_mass, 0.0);
 }
 
+/// A lumped projection whose momenta or lumped masses are fewer than its
+/// DOFs is an error naming the counts, not a panic (book Eq. 4.10).
+#[test]
+fn a_lumped_projection_with_too_few_masses_is_an_error() {
+    use hompm::mpm::mapping::{solve_projection, MappingWorkspace, MassMatrix};
+    let sim = bar("thesis-table-4.1", Method::Mpm, 4);
+    let mut ws = MappingWorkspace::new(&sim.grid, 0).unwrap();
+    ws.diagonal = vec![1.0; 3];
+    ws.momentum = vec![2.0; 3];
+    ws.lumped = vec![4.0; 3];
+    solve_projection(None, MassMatrix::Lumped, &mut ws).unwrap();
+    assert_eq!(ws.velocity, [0.5; 3]);
+    ws.lumped.truncate(2);
+    let e = solve_projection(None, MassMatrix::Lumped, &mut ws).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("3 DOFs but 3 momenta and 2 lumped masses"),
+        "{e}"
+    );
+}
+
 use proptest::prelude::*;
 
 proptest! {
