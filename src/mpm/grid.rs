@@ -411,6 +411,19 @@ impl Grid {
         crossed
     }
 
+    /// The grid crossings of a particle that moved from x to y,
+    /// |N(y) − N(x)| (thesis §3.3), given `count`, N(x) as it was last
+    /// counted: it is checked against x first (two comparisons) and found
+    /// again if x has changed since (the first step, a particle moved by
+    /// hand); then [`Grid::crossings_to`], and `count` becomes N(y).
+    #[inline(always)]
+    pub fn crossings_between(&self, count: &mut usize, x: f64, y: f64) -> usize {
+        if !self.breaks_at_or_below_is(*count, x) {
+            *count = self.breaks_at_or_below(x);
+        }
+        self.crossings_to(count, y)
+    }
+
     /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3),
     /// written into `values` and `gradients` (each [`Grid::stencil_width`]
     /// long) without allocating. Returns the global index of the first

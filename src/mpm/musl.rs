@@ -305,21 +305,15 @@ impl Simulation {
         self.grid
             .refresh_node_integrals(&self.particles.x, &self.particles.volume)?;
         let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
-        if ws.strain_increment.len() != p.len() {
-            ws.strain_increment.resize(p.len(), 0.0);
-            ws.breaks_before.resize(p.len(), 0);
-            ws.counted_at.resize(p.len(), f64::NAN);
-        }
+        // Δε_p's buffer (a fused step leaves it empty) and the crossing
+        // monitor's: the breaks at or below each particle as the step
+        // starts, N(x_p^t), with the diagnostics on.
+        ws.strain_increment.resize(p.len(), 0.0);
         grid.fill_stencils(&p.x, |&x| x, &mut ws.stencils, &mut ws.scratch)?;
-        // The crossing monitor's state (with the diagnostics on): the
-        // breaks below each particle that moved since it was counted.
         if self.records_diagnostics {
-            for k in 0..p.len() {
-                if ws.counted_at[k] != p.x[k] {
-                    ws.breaks_before[k] = grid.breaks_at_or_below(p.x[k]);
-                    ws.counted_at[k] = p.x[k];
-                }
-            }
+            ws.breaks_before.clear();
+            let counts = p.x.iter().map(|&x| grid.breaks_at_or_below(x));
+            ws.breaks_before.extend(counts);
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
         ws.mapping
@@ -569,10 +563,8 @@ impl Simulation {
     fn record_particle_monitors(&mut self) {
         let (p, ws) = (&self.particles, &mut self.workspace);
         let mut crossings = 0;
-        let counted = ws.breaks_before.iter_mut().zip(&mut ws.counted_at);
-        for ((before, at), &x) in counted.zip(&p.x) {
+        for (before, &x) in ws.breaks_before.iter_mut().zip(&p.x) {
             crossings += self.grid.crossings_to(before, x);
-            *at = x;
         }
         self.diagnostics.record_particles(&p.strain, crossings);
     }

@@ -18,7 +18,6 @@ use crate::spline::bspline::SpanScratch;
 /// The buffers of one step, allocated when the simulation starts: the basis
 /// at the particles (flat stencils), the nodal vectors, and the per-particle
 /// increments of steps 5–8.
-#[derive(Debug)]
 pub struct StepWorkspace {
     /// φ_i(x_p) and (modified) ∇φ_i(x_p) at the start of the step.
     pub stencils: Stencils,
@@ -42,13 +41,41 @@ pub struct StepWorkspace {
     pub updated_velocity: Vec<f64>,
     /// The mappings' buffers, and the projected velocity v_i (Eq. 4.10).
     pub mapping: MappingWorkspace,
-    /// Δε_p of this step (Eq. 4.14).
+    /// Δε_p (Eq. 4.14) of the last step taken pass by pass: an observed
+    /// step (`hompm trace` records it as book-4.14) or one the fused loops
+    /// do not serve. A fused step keeps each Δε_p in a register and leaves
+    /// this empty, so that it never holds an older step's values
+    /// (`Simulation::step_is_fused`; docs/conventions.md, issue #39).
     pub strain_increment: Vec<f64>,
-    /// Gradient breaks at or below x_p at the start of the step, and the
-    /// position they were counted at (the count after one step is the count
-    /// before the next unless the position was changed in between).
+    /// The crossing monitor's break counts (thesis §3.3): N(x_p) of the
+    /// position each particle was last counted at. The step taken pass by
+    /// pass counts N(x_p^t) afresh as it starts; the fused step keeps the
+    /// count from its last step and checks it against x_p^t before it
+    /// counts the crossings (`Grid::crossings_between`).
     pub(super) breaks_before: Vec<usize>,
-    pub(super) counted_at: Vec<f64>,
+}
+
+/// Every buffer but two scratch ones: the Cox–de Boor work arrays, and the
+/// crossing monitor's break counts, which the two shapes of the step keep
+/// differently (the fused step from the last step, checked; the pass per
+/// equation counted afresh). What a step leaves is then printed alike by
+/// both (tests/spec/speed/fused_step.rs).
+impl std::fmt::Debug for StepWorkspace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StepWorkspace")
+            .field("stencils", &self.stencils)
+            .field("mass", &self.mass)
+            .field("internal_force", &self.internal_force)
+            .field("gravity_force", &self.gravity_force)
+            .field("traction_force", &self.traction_force)
+            .field("acceleration", &self.acceleration)
+            .field("nodal_momentum", &self.nodal_momentum)
+            .field("nodal_velocity", &self.nodal_velocity)
+            .field("updated_velocity", &self.updated_velocity)
+            .field("mapping", &self.mapping)
+            .field("strain_increment", &self.strain_increment)
+            .finish_non_exhaustive()
+    }
 }
 
 impl StepWorkspace {
@@ -69,7 +96,6 @@ impl StepWorkspace {
             mapping: MappingWorkspace::new(grid, particles)?,
             strain_increment: vec![0.0; particles],
             breaks_before: vec![0; particles],
-            counted_at: vec![f64::NAN; particles],
         })
     }
 }

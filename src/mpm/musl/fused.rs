@@ -21,7 +21,9 @@
 //!    conservation monitor's particle totals. Then on the grid:
 //!    v_i = p_i / M^L_i, the projection's record, v_i = 0 on Dirichlet DOFs.
 //! 3. [`move_particles`]: u_p, x_p, Δε_p, σ_p, V_p, ρ_p, ε_p
-//!    (Eqs. 4.11–4.18), the strain and crossing monitors (thesis §3.3) and
+//!    (Eqs. 4.11–4.18), with Δε_p in a register (the workspace's
+//!    `strain_increment` is left empty), the strain and crossing monitors
+//!    (thesis §3.3; the crossings counted from x_p^t and x_p^t+Δt) and
 //!    the screen of the check that every particle is physical.
 //!
 //! The loops call the one-particle equations of
@@ -112,13 +114,11 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
             "the fused step needs a stencil width of 2 to 4".into(),
         ));
     }
-    let n = sim.particles.len();
-    let ws = &mut sim.workspace;
-    if ws.strain_increment.len() != n {
-        ws.strain_increment.resize(n, 0.0);
-        ws.breaks_before.resize(n, 0);
-        ws.counted_at.resize(n, f64::NAN);
-    }
+    // Δε_p stays in a register (module docs): no older step's values are
+    // left to be read as this one's.
+    let (n, ws) = (sim.particles.len(), &mut sim.workspace);
+    ws.strain_increment.clear();
+    ws.breaks_before.resize(n, 0);
     let g = sim.gravity_in_step(dt);
     let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
     let traction = sim.particles.traction.iter().any(|&t| t != 0.0);
@@ -163,8 +163,7 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
     })
 }
 
-/// Loop 1: φ_i(x_p), ∇φ_i(x_p) into the workspace's stencils, the crossing
-/// monitor's state of a particle moved since it was counted, and the
+/// Loop 1: φ_i(x_p), ∇φ_i(x_p) into the workspace's stencils and the
 /// lumped mass m_i = Σ m_p φ_i (book Eq. 4.5), internal force
 /// f_i = Σ σ_p V_p ∇φ_i (Eq. 4.6), gravity Σ m_p g φ_i and traction
 /// Σ f_p φ_i (thesis §3.2; with the body force at the nodes, m_i g after
@@ -190,11 +189,9 @@ fn map_particles_to_grid<const W: usize, const LOADS: bool>(
         v.fill(0.0);
     }
     evaluator.run(MapParticlesToGrid::<LOADS> {
-        grid,
         particles: p,
         workspace: &mut *ws,
         weight_per_mass: if at_particles { g } else { 0.0 },
-        counts_crossings: sim.records_diagnostics,
     })?;
     if !at_particles && g != 0.0 {
         for (f, m) in ws.gravity_force.iter_mut().zip(&ws.mass) {
@@ -206,13 +203,10 @@ fn map_particles_to_grid<const W: usize, const LOADS: bool>(
 
 /// The particle loop of [`map_particles_to_grid`] and what it reads.
 struct MapParticlesToGrid<'a, const LOADS: bool> {
-    grid: &'a Grid,
     particles: &'a Particles,
     workspace: &'a mut StepWorkspace,
     /// g at the particles (the body force m_p g φ_i), else 0.
     weight_per_mass: f64,
-    /// Whether the crossing monitor's state is kept (diagnostics on).
-    counts_crossings: bool,
 }
 
 impl<const W: usize, const LOADS: bool> FixedWidthLoop<W> for MapParticlesToGrid<'_, LOADS> {
@@ -224,11 +218,9 @@ impl<const W: usize, const LOADS: bool> FixedWidthLoop<W> for MapParticlesToGrid
         evaluate: impl Fn(f64, &mut [f64; W], &mut [f64; W]) -> Result<usize>,
     ) -> Result<()> {
         let Self {
-            grid,
             particles: p,
             workspace: ws,
             weight_per_mass,
-            counts_crossings,
         } = self;
         let n = p.len();
         ws.stencils.resize(n);
@@ -242,7 +234,6 @@ impl<const W: usize, const LOADS: bool> FixedWidthLoop<W> for MapParticlesToGrid
         let rows = rows.zip(gradients.as_chunks_mut::<W>().0.iter_mut());
         let (x, mass, stress, volume) = (&p.x[..n], &p.mass[..n], &p.stress[..n], &p.volume[..n]);
         let traction = &p.traction[..n];
-        let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
         // Mass and internal force in one pair of register sums, the loads
         // (when there are any) in another: each vector's additions in
         // particle order, as before.
@@ -259,10 +250,6 @@ impl<const W: usize, const LOADS: bool> FixedWidthLoop<W> for MapParticlesToGrid
             *first = evaluate(x[k], &mut values, &mut gradients)?;
             (*phi, *dphi) = (values, gradients);
             let (phi, dphi) = (&values, &gradients);
-            if counts_crossings && counted_at[k] != x[k] {
-                breaks_before[k] = grid.breaks_at_or_below(x[k]);
-                counted_at[k] = x[k];
-            }
             force_sums.move_to(*first, &mut forces);
             let [nodal_mass, force] = &mut force_sums.sums;
             let (m, stress_volume) = (mass[k], stress[k] * volume[k]);
@@ -413,7 +400,12 @@ struct ParticleScreen {
 /// 4.16); V_p, ρ_p, ε_p (Eqs. 4.17–4.18); then the particle's strain and
 /// crossings for the monitors, its physical screen and (`ENERGY`) its
 /// energy ½ m_p v_p² + ½ σ_p ε_p V_p ([`Simulation::energy`]'s terms, in
-/// its order).
+/// its order). Δε_p is not stored: each array written here is one more
+/// stream to memory per particle-step, and at 16384 cells the two that
+/// used to be written (Δε_p, the position the breaks were counted at)
+/// cost 40 % of the step (docs/conventions.md, session 12). The crossings
+/// are |N(x_p^t+Δt) − N(x_p^t)| from the break count kept from the last
+/// step, checked against x_p^t ([`Grid::crossings_between`]).
 fn move_particles<const W: usize, const ENERGY: bool>(
     sim: &mut Simulation,
     dt: f64,
@@ -440,8 +432,7 @@ fn move_particles<const W: usize, const ENERGY: bool>(
     let (x, displacement, velocity) = (&mut p.x[..n], &mut p.displacement[..n], &p.velocity[..n]);
     let (stress, volume) = (&mut p.stress[..n], &mut p.volume[..n]);
     let (density, strain) = (&mut p.density[..n], &mut p.strain[..n]);
-    let (first, increments) = (&first[..n], &mut ws.strain_increment[..n]);
-    let (breaks_before, counted_at) = (&mut ws.breaks_before[..n], &mut ws.counted_at[..n]);
+    let (first, breaks_before) = (&first[..n], &mut ws.breaks_before[..n]);
     let (values, gradients) = (
         &values.as_chunks::<W>().0[..n],
         &gradients.as_chunks::<W>().0[..n],
@@ -453,9 +444,9 @@ fn move_particles<const W: usize, const ENERGY: bool>(
             &v[first[k]..first[k] + W],
             dt,
         );
+        let moved_from = x[k];
         displacement[k] += du;
         x[k] += du;
-        increments[k] = deps;
         stress[k] = law(stress[k], young, deps);
         update_volume_density_strain(&mut volume[k], &mut density[k], &mut strain[k], deps);
         let xk = x[k];
@@ -464,8 +455,7 @@ fn move_particles<const W: usize, const ENERGY: bool>(
             screen.energy += particle_energy(mass[k], velocity[k], stress[k], strain[k], volume[k]);
         }
         if monitors {
-            screen.crossings += grid.crossings_to(&mut breaks_before[k], xk);
-            counted_at[k] = xk;
+            screen.crossings += grid.crossings_between(&mut breaks_before[k], moved_from, xk);
         }
         // A screen, not the check: false for a NaN anywhere or a particle
         // outside [lo, hi]; the check itself names the first culprit.

@@ -15,7 +15,9 @@
 use approx::assert_relative_eq;
 use hompm::mpm::grid::{Grid, Method};
 use hompm::mpm::mapping::{Mapping, MassMatrix};
-use hompm::mpm::musl::{Constitutive, GravityRamp, RampTimeLevel, Settings, Simulation};
+use hompm::mpm::musl::{
+    Constitutive, GravityRamp, RampTimeLevel, Settings, Simulation, StepObserver, StepPoint,
+};
 use hompm::mpm::particles::Particles;
 
 const DT: f64 = 0.1;
@@ -51,6 +53,17 @@ fn two_particles_on(
     constitutive: Constitutive,
     configure: impl FnOnce(&mut Particles, &mut Settings),
 ) -> Simulation {
+    let mut sim = before_the_step(cells, constitutive, configure);
+    sim.step(DT).unwrap();
+    sim
+}
+
+/// The table's two particles on `cells` unit cells, configured, before the step.
+fn before_the_step(
+    cells: usize,
+    constitutive: Constitutive,
+    configure: impl FnOnce(&mut Particles, &mut Settings),
+) -> Simulation {
     let grid = Grid::new(Method::Mpm, 0.0, cells as f64, cells).unwrap();
     let mut p = table_particles();
     p.traction = vec![0.0, 0.5];
@@ -71,9 +84,26 @@ fn two_particles_on(
     };
     let mut settings = settings;
     configure(&mut p, &mut settings);
-    let mut sim = Simulation::new(grid, p, settings).unwrap();
-    sim.step(DT).unwrap();
-    sim
+    Simulation::new(grid, p, settings).unwrap()
+}
+
+/// Δε_p (book Eq. 4.14) of the table's step, as the step computes it: read
+/// at `StepPoint::Positions`, where `hompm trace` reads it. (A step nobody
+/// observes keeps each Δε_p in a register: `StepWorkspace::strain_increment`.)
+fn strain_increments_of_the_step() -> Vec<f64> {
+    struct AtPositions(Vec<f64>);
+    impl StepObserver for AtPositions {
+        fn observe(&mut self, point: StepPoint, sim: &mut Simulation) -> hompm::Result<()> {
+            if point == StepPoint::Positions {
+                self.0 = sim.workspace().strain_increment.clone();
+            }
+            Ok(())
+        }
+    }
+    let mut sim = before_the_step(2, Constitutive::SmallStrain, |_, _| {});
+    let mut seen = AtPositions(Vec::new());
+    sim.step_observed(DT, &mut seen).unwrap();
+    seen.0
 }
 
 fn assert_all(computed: &[f64], expected: &[f64]) {
@@ -254,9 +284,11 @@ fn eqs_4_11_to_4_13_displacement_and_position_move_with_the_grid() {
 #[test]
 fn eq_4_14_strain_increment_is_the_gradient_of_the_displacement_increment() {
     // Δε_0 = −0.09875 − 0.09025, Δε_1 = 0.09025 − 0.21625
+    assert_all(&strain_increments_of_the_step(), &[-0.189, -0.126]);
     let sim = two_particles(Constitutive::SmallStrain);
-    assert_all(&sim.workspace().strain_increment, &[-0.189, -0.126]);
     assert_all(&sim.particles.strain, &[-0.189, -0.126]);
+    // The unobserved (fused) step leaves no Δε_p to be taken for its own.
+    assert!(sim.step_is_fused() && sim.workspace().strain_increment.is_empty());
 }
 
 /// Map rows: book-4.15, tls-2, tls-6 — one equation, printed in two seeds.
