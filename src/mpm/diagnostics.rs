@@ -50,8 +50,13 @@ pub fn compensated_sum(values: impl IntoIterator<Item = f64>) -> f64 {
 }
 
 /// [`compensated_sum`] one term at a time, so that one pass over the
-/// particles can keep several sums: the same steps in the same order, so
-/// the same bits as [`compensated_sum`] of the same terms.
+/// particles can keep several sums: the same sums in the same order, so
+/// the same bits as [`compensated_sum`] of the same terms. Each step's
+/// rounding error is taken by Knuth's TwoSum, without Neumaier's branch on
+/// |sum| ≥ |v|: both give the exact error fl(sum + v) − (sum + v) of finite
+/// terms whose sum does not overflow, and an exact error is one number.
+/// Without the branch the processor keeps four such sums side by side in
+/// one vector register (the 2D step's conservation record, issue #39).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct CompensatedSum {
     sum: f64,
@@ -63,11 +68,9 @@ impl CompensatedSum {
     #[inline(always)]
     pub fn add(&mut self, v: f64) {
         let t = self.sum + v;
-        self.correction += if self.sum.abs() >= v.abs() {
-            (self.sum - t) + v
-        } else {
-            (v - t) + self.sum
-        };
+        let v_rounded = t - self.sum;
+        let sum_rounded = t - v_rounded;
+        self.correction += (self.sum - sum_rounded) + (v - v_rounded);
         self.sum = t;
     }
 
