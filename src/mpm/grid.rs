@@ -418,10 +418,18 @@ impl Grid {
     /// hand); then [`Grid::crossings_to`], and `count` becomes N(y).
     #[inline(always)]
     pub fn crossings_between(&self, count: &mut usize, x: f64, y: f64) -> usize {
+        self.keep_break_count(count, x);
+        self.crossings_to(count, y)
+    }
+
+    /// Makes `count` N(x), the breaks at or below x: two comparisons when
+    /// it already is ([`Grid::breaks_at_or_below_is`]), the count found
+    /// again when it is not (thesis §3.3's crossing monitor).
+    #[inline(always)]
+    pub fn keep_break_count(&self, count: &mut usize, x: f64) {
         if !self.breaks_at_or_below_is(*count, x) {
             *count = self.breaks_at_or_below(x);
         }
-        self.crossings_to(count, y)
     }
 
     /// φ and the method's gradient at x (book Eqs. 4.5–4.6, TLS paper §3.3),

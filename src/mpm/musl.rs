@@ -307,13 +307,15 @@ impl Simulation {
         let (grid, p, ws) = (&self.grid, &self.particles, &mut self.workspace);
         // Δε_p's buffer (a fused step leaves it empty) and the crossing
         // monitor's: the breaks at or below each particle as the step
-        // starts, N(x_p^t), with the diagnostics on.
+        // starts, N(x_p^t), with the diagnostics on (the count kept from
+        // the last step, checked).
         ws.strain_increment.resize(p.len(), 0.0);
         grid.fill_stencils(&p.x, |&x| x, &mut ws.stencils, &mut ws.scratch)?;
         if self.records_diagnostics {
-            ws.breaks_before.clear();
-            let counts = p.x.iter().map(|&x| grid.breaks_at_or_below(x));
-            ws.breaks_before.extend(counts);
+            ws.breaks_before.resize(p.len(), 0);
+            for (count, &x) in ws.breaks_before.iter_mut().zip(&p.x) {
+                grid.keep_break_count(count, x);
+            }
         }
         let mappings = [self.settings.force_mapping, self.settings.velocity_mapping];
         ws.mapping

@@ -18,6 +18,7 @@ use crate::spline::bspline::SpanScratch;
 /// The buffers of one step, allocated when the simulation starts: the basis
 /// at the particles (flat stencils), the nodal vectors, and the per-particle
 /// increments of steps 5–8.
+#[derive(Debug)]
 pub struct StepWorkspace {
     /// φ_i(x_p) and (modified) ∇φ_i(x_p) at the start of the step.
     pub stencils: Stencils,
@@ -48,34 +49,11 @@ pub struct StepWorkspace {
     /// (`Simulation::step_is_fused`; docs/conventions.md, issue #39).
     pub strain_increment: Vec<f64>,
     /// The crossing monitor's break counts (thesis §3.3): N(x_p) of the
-    /// position each particle was last counted at. The step taken pass by
-    /// pass counts N(x_p^t) afresh as it starts; the fused step keeps the
-    /// count from its last step and checks it against x_p^t before it
-    /// counts the crossings (`Grid::crossings_between`).
+    /// position each particle was last counted at. Both shapes of the step
+    /// check the count against x_p^t (`Grid::keep_break_count`): the pass
+    /// per equation as it starts, the fused step in the loop that moves
+    /// the particle (`Grid::crossings_between`).
     pub(super) breaks_before: Vec<usize>,
-}
-
-/// Every buffer but two scratch ones: the Cox–de Boor work arrays, and the
-/// crossing monitor's break counts, which the two shapes of the step keep
-/// differently (the fused step from the last step, checked; the pass per
-/// equation counted afresh). What a step leaves is then printed alike by
-/// both (tests/spec/speed/fused_step.rs).
-impl std::fmt::Debug for StepWorkspace {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("StepWorkspace")
-            .field("stencils", &self.stencils)
-            .field("mass", &self.mass)
-            .field("internal_force", &self.internal_force)
-            .field("gravity_force", &self.gravity_force)
-            .field("traction_force", &self.traction_force)
-            .field("acceleration", &self.acceleration)
-            .field("nodal_momentum", &self.nodal_momentum)
-            .field("nodal_velocity", &self.nodal_velocity)
-            .field("updated_velocity", &self.updated_velocity)
-            .field("mapping", &self.mapping)
-            .field("strain_increment", &self.strain_increment)
-            .finish_non_exhaustive()
-    }
 }
 
 impl StepWorkspace {

@@ -606,3 +606,27 @@ proptest! {
         );
     }
 }
+
+/// Thesis §3.3: a particle moving from x to y crosses |N(y) − N(x)|
+/// gradient breaks. `Grid::crossings_between` is given the count kept from
+/// the last step; whatever it holds (right, stale, or beyond the breaks),
+/// the crossings are counted from N(x), and the count becomes N(y).
+#[test]
+fn crossings_between_counts_from_x_whatever_count_it_is_given() {
+    // P1 on [0, 4]: breaks at 1, 2, 3.
+    let grid = Grid::new(Method::Mpm, 0.0, 4.0, 4).unwrap();
+    for (x, y) in [(2.5, 3.5), (3.5, 0.5), (1.5, 1.75), (0.0, 4.0), (2.0, 1.0)] {
+        let expected = grid
+            .breaks_at_or_below(y)
+            .abs_diff(grid.breaks_at_or_below(x));
+        for kept in 0..6 {
+            let mut count = kept;
+            assert_eq!(
+                grid.crossings_between(&mut count, x, y),
+                expected,
+                "{x} → {y}, count {kept}"
+            );
+            assert_eq!(count, grid.breaks_at_or_below(y));
+        }
+    }
+}
