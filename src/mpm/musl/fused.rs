@@ -403,7 +403,8 @@ struct ParticleScreen {
 /// its order). Δε_p is not stored: each array written here is one more
 /// stream to memory per particle-step, and at 16384 cells the two that
 /// used to be written (Δε_p, the position the breaks were counted at)
-/// cost 40 % of the step (docs/conventions.md, session 12). The crossings
+/// cost between an eighth and a third of the step on session 12's host
+/// (docs/conventions.md, "Session 12"). The crossings
 /// are |N(x_p^t+Δt) − N(x_p^t)| from the break count kept from the last
 /// step, checked against x_p^t ([`Grid::crossings_between`]).
 fn move_particles<const W: usize, const ENERGY: bool>(
