@@ -12,7 +12,9 @@
 //! has none. The
 //! aligned vibration of the MLS paper (`mls-paper-e1e7`), 9 particles per
 //! cell, Δt = 1e-5 s, the manufactured body force included; one step is
-//! taken before the counted ones, as in the bench.
+//! taken before the counted ones, as in the bench. With the environment
+//! variable `PORTABLE` set, every kernel takes its baseline copy
+//! (`hompm::dispatch::force_portable`), to see what AVX2 buys on a host.
 
 #[path = "../benches/lean/mpm2d.rs"]
 mod mpm2d;
@@ -37,6 +39,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "hompm-pu-tls" => AlignedMethod::bsmpm_with(2, Mapping2d::PuTls),
         _ => return Err(usage.into()),
     };
+    if std::env::var_os("PORTABLE").is_some() {
+        hompm::dispatch::force_portable(true);
+    }
     let scene = parameters("mls-paper-e1e7")?;
     let dt = scene.dt;
     let mut sim = scene.simulation(method, cells, 3, 1.0)?;
