@@ -19,6 +19,12 @@ use hompm::mpm2d::step::Simulation2d;
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod, AlignedVibration};
 use mpm2d::{LeanBilinear2d, LeanBsmpm2d};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() {
     divan::main();
 }

@@ -22,6 +22,12 @@ use hompm::mpm::monitor::StabilityMonitor;
 use hompm::scenes::{vibrating_bar, Discretisation};
 use p1::LeanP1;
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() {
     divan::main();
 }

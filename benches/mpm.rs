@@ -13,6 +13,12 @@ use hompm::mpm::grid::Method;
 use hompm::mpm::mapping::{ConsistentSolver, Mapping, MassMatrix};
 use hompm::scenes::{vibrating_bar, Discretisation};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() {
     divan::main();
 }

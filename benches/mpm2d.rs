@@ -24,6 +24,12 @@ use hompm::mpm2d::step::{
 use hompm::mpm2d::Mapping2d;
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() {
     divan::main();
 }

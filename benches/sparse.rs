@@ -15,6 +15,12 @@
 use divan::Bencher;
 use hompm::sparse::{BandAssembly, SparseMatrix};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() {
     divan::main();
 }

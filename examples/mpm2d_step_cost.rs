@@ -23,6 +23,12 @@ use hompm::mpm2d::Mapping2d;
 use hompm::scenes::aligned_vibration::{parameters, AlignedMethod};
 use mpm2d::{LeanBilinear2d, LeanBsmpm2d};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let usage =

@@ -17,6 +17,12 @@ use hompm::mpm::grid::Method;
 use hompm::mpm::monitor::StabilityMonitor;
 use hompm::scenes::{vibrating_bar, Discretisation};
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let usage = "usage: p1_step_cost step|watched|bare|lean CELLS STEPS";

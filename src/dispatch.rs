@@ -20,7 +20,8 @@
 //! [`force_portable`] makes every kernel take the baseline copy (for that
 //! test, and for a user who wants to see the difference in time).
 //!
-//! The call of the AVX2 copy is the crate's only `unsafe` block: calling a
+//! The call of the AVX2 copy is one of the crate's two places with `unsafe`
+//! code (the other is the allocator of [`crate::placement`]): calling a
 //! function compiled for a feature the processor may lack is undefined, so
 //! the macro calls it only after `is_x86_feature_detected!` has read the
 //! feature from the processor.

@@ -13,7 +13,7 @@
 //!
 //! | layer | module | what it holds |
 //! |---|---|---|
-//! | 0 | [`error`], [`rng`], [`dispatch`] | [`Error`]: every user-facing failure; the seeded generator behind every "random" layout; kernels compiled for the baseline and for AVX2 |
+//! | 0 | [`error`], [`rng`], [`dispatch`], [`placement`] | [`Error`]: every user-facing failure; the seeded generator behind every "random" layout; kernels compiled for the baseline and for AVX2; large arrays started at staggered offsets within the page |
 //! | 1 | [`basis`], [`quadrature`] | the [`basis::Basis1d`] interface shared by all 1D bases; Gauss–Legendre rules and the thesis' half-span rule (§7.2) |
 //! | 2 | [`spline`], [`lagrange`] | knot vectors, Cox–de Boor (book Eqs. 4.19–4.23), 2D tensor basis; P1 and P2 Lagrange shape functions (thesis §5.1–5.2) |
 //! | 3 | [`sparse`] | CSR storage for banded and Kronecker mass matrices |
@@ -40,6 +40,7 @@ pub mod mass;
 pub mod mpm;
 pub mod mpm2d;
 pub mod oracle;
+pub mod placement;
 pub mod quadrature;
 pub mod reconstruct;
 pub mod report;

@@ -7,6 +7,12 @@
 use std::io::Write;
 use std::process::ExitCode;
 
+/// Large arrays start at staggered offsets within the page
+/// (`hompm::placement`): placement only, the same bits.
+#[global_allocator]
+static ALLOCATOR: hompm::placement::StaggeredAllocator =
+    hompm::placement::StaggeredAllocator::new();
+
 fn print(out: &str) {
     let mut stdout = std::io::stdout().lock();
     let _ = stdout.write_all(out.as_bytes());

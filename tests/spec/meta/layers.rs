@@ -9,7 +9,7 @@ use crate::common;
 /// The top-level modules of src/, lowest layer first; modules on one line
 /// share a layer and may not refer to each other.
 const LAYERS: &[&[&str]] = &[
-    &["error", "rng", "dispatch"],
+    &["error", "rng", "dispatch", "placement"],
     &["basis", "quadrature"],
     &["spline", "lagrange"],
     &["sparse"],
