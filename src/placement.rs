@@ -13,8 +13,8 @@
 //!
 //! Measured on session 12's host (docs/conventions.md, "Session 13"), the
 //! 1D P1 bar at 16384 cells × 4 (arrays of 512 KiB), CPU time per
-//! particle-step: hompm's step with the stability monitor 71.8 → 33.9 ns
-//! and the lean step of issue #39 61.5 → 22.9 ns when each large
+//! particle-step: hompm's step with the stability monitor 72.8 → 34.2 ns
+//! and the lean step of issue #39 62.0 → 24.6 ns when each large
 //! allocation starts a different number of cache lines into its block; at
 //! 1024 cells (32 KiB arrays, which `malloc` places one after another)
 //! nothing changes.
