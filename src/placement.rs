@@ -54,15 +54,6 @@ pub struct StaggeredAllocator {
     next: AtomicUsize,
 }
 
-impl StaggeredAllocator {
-    /// The allocator, its rotation at the first offset.
-    pub const fn new() -> Self {
-        Self {
-            next: AtomicUsize::new(0),
-        }
-    }
-}
-
 /// Whether an allocation of this layout is staggered.
 fn staggered(layout: Layout) -> bool {
     layout.size() >= STAGGERED_FROM && layout.align() <= 16
@@ -76,6 +67,13 @@ fn block(layout: Layout, offset: usize) -> Option<Layout> {
 }
 
 impl StaggeredAllocator {
+    /// The allocator, its rotation at the first offset.
+    pub const fn new() -> Self {
+        Self {
+            next: AtomicUsize::new(0),
+        }
+    }
+
     /// A staggered allocation: the next offset, the block from the system
     /// allocator (`zeroed` or not), the offset written before the pointer.
     ///
