@@ -3,6 +3,8 @@
 //! A thin wrapper: [`hompm::cli::run`] does all the work and returns the
 //! text to print. Warnings and errors go to stderr, one line each with
 //! control characters escaped; an error exits 1 (2 for a usage error).
+//! Its global allocator starts large arrays at staggered offsets within
+//! the page (`hompm::placement`), which changes no result.
 
 use std::io::Write;
 use std::process::ExitCode;
