@@ -71,6 +71,7 @@ pub mod spline;
 pub mod tls;
 
 pub use mls::{MlsWeights, MlsWorkspace};
+pub use projection::both_finite;
 pub use projection::solve_consistent_acceleration;
 pub use projection::{diagnose_projection, running_max, running_min, solve_projection, Projection};
 pub use quadrature::Accumulator;

@@ -349,7 +349,7 @@ impl Simulation {
                 }
             }
         }
-        if p.traction.iter().any(|&t| t != 0.0) {
+        if p.has_traction() {
             ws.stencils
                 .scatter_values(|k| p.traction[k], &mut ws.traction_force);
         }

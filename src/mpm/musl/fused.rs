@@ -45,8 +45,8 @@ use crate::basis::{interpolate_row, StencilSums, Stencils};
 use crate::error::{Error, Result};
 use crate::mpm::grid::{fill::FixedWidthLoop, Grid};
 use crate::mpm::mapping::{
-    accumulate_lumped_row, accumulate_momentum_and_diagonal_row, diagnose_projection, running_max,
-    solve_projection, Mapping, MassMatrix,
+    accumulate_lumped_row, accumulate_momentum_and_diagonal_row, both_finite, diagnose_projection,
+    running_max, solve_projection, Mapping, MassMatrix,
 };
 
 impl Simulation {
@@ -121,7 +121,7 @@ fn step_fused_width<const W: usize, const ENERGY: bool>(
     ws.breaks_before.resize(n, 0);
     let g = sim.gravity_in_step(dt);
     let at_particles = sim.settings.conventions.body_force == BodyForceAt::Particles;
-    let traction = sim.particles.traction.iter().any(|&t| t != 0.0);
+    let traction = sim.particles.has_traction();
     if traction || (at_particles && g != 0.0) {
         map_particles_to_grid::<W, true>(sim, g)?;
     } else {
@@ -439,6 +439,10 @@ fn move_particles<const W: usize, const ENERGY: bool>(
         &gradients.as_chunks::<W>().0[..n],
     );
     for k in 0..n {
+        // Each field is read once and written once: the values that the
+        // monitors and the screen read stay in registers, not read back
+        // from the arrays just written (which the compiler cannot tell
+        // apart from the ones it would read).
         let (du, deps) = displacement_and_strain_increment(
             &values[k],
             &gradients[k],
@@ -446,22 +450,26 @@ fn move_particles<const W: usize, const ENERGY: bool>(
             dt,
         );
         let moved_from = x[k];
+        let xk = moved_from + du;
         displacement[k] += du;
-        x[k] += du;
-        stress[k] = law(stress[k], young, deps);
-        update_volume_density_strain(&mut volume[k], &mut density[k], &mut strain[k], deps);
-        let xk = x[k];
-        screen.max_abs_strain = running_max(screen.max_abs_strain, strain[k].abs());
+        x[k] = xk;
+        let sigma = law(stress[k], young, deps);
+        stress[k] = sigma;
+        let (mut vol, mut rho, mut eps) = (volume[k], density[k], strain[k]);
+        update_volume_density_strain(&mut vol, &mut rho, &mut eps, deps);
+        (volume[k], density[k], strain[k]) = (vol, rho, eps);
+        let vk = velocity[k];
+        screen.max_abs_strain = running_max(screen.max_abs_strain, eps.abs());
         if ENERGY {
-            screen.energy += particle_energy(mass[k], velocity[k], stress[k], strain[k], volume[k]);
+            screen.energy += particle_energy(mass[k], vk, sigma, eps, vol);
         }
         if monitors {
             screen.crossings += grid.crossings_between(&mut breaks_before[k], moved_from, xk);
         }
         // A screen, not the check: false for a NaN anywhere or a particle
         // outside [lo, hi]; the check itself names the first culprit.
-        let inside = (xk >= lo) & (xk <= hi) & (volume[k] > 0.0);
-        screen.suspect |= !(inside & velocity[k].is_finite() & stress[k].is_finite());
+        let inside = (xk >= lo) & (xk <= hi) & (vol > 0.0);
+        screen.suspect |= !(inside & both_finite(vk, sigma));
     }
     screen
 }

@@ -64,7 +64,7 @@ impl Simulation {
             &mut ws.mapping,
             &mut ws.gravity_force,
         )?;
-        if p.traction.iter().any(|&f| f != 0.0) {
+        if p.has_traction() {
             ws.stencils
                 .scatter_values(|k| p.traction[k], &mut ws.traction_force);
         }

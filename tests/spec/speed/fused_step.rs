@@ -224,6 +224,25 @@ fn the_fused_step_fails_where_and_as_the_step_pass_by_pass_fails() {
     }
 }
 
+/// The steps map the traction only when some particle carries one
+/// (`Particles::has_traction`, a scan without an early exit): ±0 are
+/// none; a subnormal, a NaN or a value on the last particle alone is one.
+#[test]
+fn a_traction_is_mapped_when_any_particle_carries_a_non_zero_one() {
+    let mut p = hompm::mpm::particles::Particles::uniform(0.0, 1.0, 37, 1000.0).unwrap();
+    assert!(!p.has_traction());
+    p.traction[3] = -0.0;
+    assert!(!p.has_traction(), "−0 is no traction");
+    for value in [f64::from_bits(1), -1e300, f64::NAN, f64::INFINITY] {
+        let mut q = p.clone();
+        q.traction[36] = value;
+        assert!(q.has_traction(), "{value:e} on the last particle");
+        let mut q = p.clone();
+        q.traction[0] = value;
+        assert!(q.has_traction(), "{value:e} on the first particle");
+    }
+}
+
 /// `step_summarised` reports the energy and the largest strain that a pass
 /// over the particles finds after the step (`Simulation::energy`, the same
 /// bits), and the monitor's verdict on it is `check`'s.
@@ -394,6 +413,19 @@ proptest! {
         prop_assume!(!(running == 0.0 && x == 0.0 && running.is_sign_negative() != x.is_sign_negative()));
         prop_assert_eq!(running_max(running, x).to_bits(), f64::max(running, x).to_bits());
         prop_assert_eq!(running_min(running, x).to_bits(), f64::min(running, x).to_bits());
+    }
+
+    /// The fused step's physical screen tests finiteness by arithmetic
+    /// (`both_finite`: (a − a) + (b − b) = 0); for every pair of doubles,
+    /// ±∞, NaN, subnormals and both zeros among them, it is
+    /// `a.is_finite() && b.is_finite()`.
+    #[test]
+    fn both_finite_is_is_finite_of_both(
+        a in prop_oneof![proptest::num::f64::ANY, Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(f64::NAN), Just(f64::MAX), Just(-0.0)],
+        b in prop_oneof![proptest::num::f64::ANY, Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(f64::NAN), Just(f64::MAX), Just(-0.0)],
+    ) {
+        use hompm::mpm::mapping::both_finite;
+        prop_assert_eq!(both_finite(a, b), a.is_finite() && b.is_finite(), "a = {}, b = {}", a, b);
     }
 
     /// The fused step takes P1's lumped mass M^L_i = Σ m_p φ_i Σ_j φ_j as
