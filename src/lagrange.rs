@@ -135,6 +135,15 @@ impl LagrangeBasis {
             .collect()
     }
 
+    /// ξ = (x − x_k)/h of x in element k (thesis §5.1, the inverse of
+    /// T: [0, 1] → [x_k, x_{k+1}]), clamped to [0, 1] against rounding.
+    /// x_k = a + k h, with k converted through i64 (one instruction; the
+    /// same value for every k below 2⁵³).
+    #[inline(always)]
+    fn local_coordinate(&self, x: f64, k: usize, h: f64) -> f64 {
+        ((x - (self.a + k as i64 as f64 * h)) / h).clamp(0.0, 1.0)
+    }
+
     /// The element k with x_k ≤ x < x_{k+1}; the right end belongs to the last.
     #[inline]
     pub fn element_of(&self, x: f64) -> Result<usize> {
@@ -148,8 +157,12 @@ impl LagrangeBasis {
                 b: self.b,
             });
         }
-        // x ≥ a, so truncation is the floor (and needs no libm call).
-        let k = ((x - self.a) / self.h) as usize;
+        // x ≥ a, so truncation is the floor (and needs no libm call). The
+        // quotient is at most about the number of elements, so it converts
+        // through i64, one instruction, where a conversion to usize takes a
+        // dozen for the quotients of 2⁶³ and more that cannot occur (the
+        // same k; issue #39).
+        let k = ((x - self.a) / self.h) as i64 as usize;
         Ok(k.min(self.elements - 1))
     }
 }
@@ -169,7 +182,7 @@ impl LagrangeBasis {
     ) -> Result<usize> {
         let k = self.element_of(x)?;
         let h = self.h;
-        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        let xi = self.local_coordinate(x, k, h);
         match self.order {
             LagrangeOrder::Linear => {
                 // −1/h = −(1/h) exactly: the same numbers as N̂'/h.
@@ -225,7 +238,7 @@ impl LagrangeBasis {
         debug_assert_eq!(W, self.order.degree() + 1);
         let k = self.element_of(x)?;
         let h = self.h;
-        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        let xi = self.local_coordinate(x, k, h);
         if W == 2 {
             values[0] = 1.0 - xi;
             values[1] = xi;
@@ -259,7 +272,7 @@ impl Basis1d for LagrangeBasis {
     fn local(&self, x: f64, order: usize) -> Result<LocalBasis> {
         let k = self.element_of(x)?;
         let h = self.element_size();
-        let xi = ((x - (self.a + k as f64 * h)) / h).clamp(0.0, 1.0);
+        let xi = self.local_coordinate(x, k, h);
         let deg = self.order.degree();
         let mut derivatives = vec![reference_shape_functions(self.order, xi)];
         if order >= 1 {

@@ -173,8 +173,10 @@ impl Axis<2> for BilinearAxis {
     #[inline(always)]
     fn evaluate(&self, x: Pair) -> ([usize; 2], [Pair; 2], [Pair; 2]) {
         let h = splat(self.h);
-        let k = div(x, h).map(|q| (q as usize).min(self.last));
-        let start = [k[0] as f64 * self.h, k[1] as f64 * self.h];
+        // Through i64 as `LagrangeBasis` converts (one instruction each way);
+        // a negative quotient still gives element 0.
+        let k = div(x, h).map(|q| ((q as i64).max(0) as usize).min(self.last));
+        let start = [k[0] as i64 as f64 * self.h, k[1] as i64 as f64 * self.h];
         let xi = div(sub(x, start), h).map(|v| v.clamp(0.0, 1.0));
         let gradients = [splat(-self.inverse_h), splat(self.inverse_h)];
         (k, [sub([1.0; 2], xi), xi], gradients)

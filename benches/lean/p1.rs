@@ -222,8 +222,8 @@ struct Basis {
 impl Basis {
     #[inline(always)]
     fn locate(&self, x: f64) -> (usize, f64) {
-        let e = (((x - self.a) / self.h) as usize).min(self.last);
-        let xi = ((x - (self.a + e as f64 * self.h)) / self.h).clamp(0.0, 1.0);
+        let e = ((((x - self.a) / self.h) as i64).max(0) as usize).min(self.last);
+        let xi = ((x - (self.a + e as i64 as f64 * self.h)) / self.h).clamp(0.0, 1.0);
         (e, xi)
     }
 

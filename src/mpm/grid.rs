@@ -350,7 +350,9 @@ impl Grid {
             return Err(Error::OutsideDomain { x, a, b });
         }
         let c = &self.boundaries;
-        let mut e = (((x - a) * self.cells_per_length) as usize).min(self.cells - 1);
+        // x ≥ a and the quotient is at most about `cells`: through i64, one
+        // instruction (as `LagrangeBasis::element_of`), the same e.
+        let mut e = (((x - a) * self.cells_per_length) as i64 as usize).min(self.cells - 1);
         while e + 1 < self.cells && c[e + 1] <= x {
             e += 1;
         }
