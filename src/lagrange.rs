@@ -254,6 +254,43 @@ impl LagrangeBasis {
         }
         Ok((W - 1) * k)
     }
+
+    /// [`LagrangeBasis::evaluate_of_width`] at the two coordinates of a 2D
+    /// point (bilinear MPM's two axes, MLS paper Eqs. 4–5), the x axis
+    /// into `values[0]`, `gradients[0]` and y into `[1]`. For P1 (W = 2)
+    /// the two axes' operations sit side by side in the two lanes of SSE2
+    /// registers (one packed division for both quotients (x − a)/h and one
+    /// for both ξ, where two scalar divisions each were), so each lane
+    /// computes what [`LagrangeBasis::evaluate_of_width`] computes, bit for
+    /// bit. A coordinate outside [a, b] and the other widths take the
+    /// point-by-point path, which names the point.
+    #[inline(always)]
+    pub fn evaluate_pair_of_width<const W: usize>(
+        &self,
+        x: [f64; 2],
+        values: &mut [[f64; W]; 2],
+        gradients: &mut [[f64; W]; 2],
+    ) -> Result<[usize; 2]> {
+        let inside = |x: f64| x >= self.a && x <= self.b;
+        if W != 2 || !(inside(x[0]) && inside(x[1])) {
+            let first_x = self.evaluate_of_width::<W>(x[0], &mut values[0], &mut gradients[0])?;
+            let first_y = self.evaluate_of_width::<W>(x[1], &mut values[1], &mut gradients[1])?;
+            return Ok([first_x, first_y]);
+        }
+        let (a, h) = (self.a, self.h);
+        // Lane by lane the operations of `element_of` and `local_coordinate`.
+        let quotient = [(x[0] - a) / h, (x[1] - a) / h];
+        let k = quotient.map(|q| (q as i64 as usize).min(self.elements - 1));
+        let start = [a + k[0] as i64 as f64 * h, a + k[1] as i64 as f64 * h];
+        let xi = [(x[0] - start[0]) / h, (x[1] - start[1]) / h].map(|xi| xi.clamp(0.0, 1.0));
+        for axis in 0..2 {
+            values[axis][0] = 1.0 - xi[axis];
+            values[axis][1] = xi[axis];
+            gradients[axis][0] = -self.inverse_h;
+            gradients[axis][1] = self.inverse_h;
+        }
+        Ok(k)
+    }
 }
 
 impl Basis1d for LagrangeBasis {

@@ -225,8 +225,8 @@ impl Grid2d {
     /// axes in one pass, x and y in paired lanes
     /// ([`KnotVector::values_and_gradients_pair`]), bit for bit what
     /// [`Grid::fill_stencils`] writes along each axis; a Lagrange axis (P1,
-    /// bilinear MPM) evaluates x then y in the same pass
-    /// ([`LagrangeBasis::evaluate_fixed`]).
+    /// bilinear MPM) also pairs them
+    /// ([`LagrangeBasis::evaluate_pair_of_width`]).
     /// `None` unless the axis is a B-spline grid ([`Grid::plain_knot_vector`])
     /// or a Lagrange grid of width 2 to 4; `Some(Err)` if a point lies
     /// outside the grid, and the caller then takes the axis-by-axis path,
@@ -264,7 +264,8 @@ fn fill_bspline<const W: usize>(
     })
 }
 
-/// Lagrange (P1, bilinear MPM; P2): x then y, in the same pass.
+/// Lagrange (P1, bilinear MPM, in paired lanes; P2, x then y): both axes
+/// in the same pass ([`LagrangeBasis::evaluate_pair_of_width`]).
 #[inline(always)]
 fn fill_lagrange<const W: usize>(
     lagrange: &LagrangeBasis,
@@ -272,10 +273,11 @@ fn fill_lagrange<const W: usize>(
     sx: &mut Stencils,
     sy: &mut Stencils,
 ) -> Option<Result<()>> {
+    if W != lagrange.order().degree() + 1 {
+        return None;
+    }
     fill_both::<W>(xs, sx, sy, |x, v, g| {
-        let x_axis = lagrange.evaluate_fixed::<W>(x[0], &mut v[0], &mut g[0])?;
-        let y_axis = lagrange.evaluate_fixed::<W>(x[1], &mut v[1], &mut g[1])?;
-        Some(x_axis.and_then(|fx| y_axis.map(|fy| [fx, fy])))
+        Some(lagrange.evaluate_pair_of_width::<W>(x, v, g))
     })
 }
 
