@@ -157,13 +157,19 @@ impl LagrangeBasis {
                 b: self.b,
             });
         }
-        // x ≥ a, so truncation is the floor (and needs no libm call). The
-        // quotient is at most about the number of elements, so it converts
-        // through i64, one instruction, where a conversion to usize takes a
-        // dozen for the quotients of 2⁶³ and more that cannot occur (the
-        // same k; issue #39).
+        Ok(self.element_index(x))
+    }
+
+    /// [`LagrangeBasis::element_of`] for an x in [a, b] (not checked).
+    /// x ≥ a, so truncation is the floor (and needs no libm call). The
+    /// quotient is at most about the number of elements, so it converts
+    /// through i64, one instruction, where a conversion to usize takes a
+    /// dozen for the quotients of 2⁶³ and more that cannot occur (the same
+    /// k; issue #39).
+    #[inline(always)]
+    fn element_index(&self, x: f64) -> usize {
         let k = ((x - self.a) / self.h) as i64 as usize;
-        Ok(k.min(self.elements - 1))
+        k.min(self.elements - 1)
     }
 }
 
@@ -277,12 +283,9 @@ impl LagrangeBasis {
             let first_y = self.evaluate_of_width::<W>(x[1], &mut values[1], &mut gradients[1])?;
             return Ok([first_x, first_y]);
         }
-        let (a, h) = (self.a, self.h);
-        // Lane by lane the operations of `element_of` and `local_coordinate`.
-        let quotient = [(x[0] - a) / h, (x[1] - a) / h];
-        let k = quotient.map(|q| (q as i64 as usize).min(self.elements - 1));
-        let start = [a + k[0] as i64 as f64 * h, a + k[1] as i64 as f64 * h];
-        let xi = [(x[0] - start[0]) / h, (x[1] - start[1]) / h].map(|xi| xi.clamp(0.0, 1.0));
+        // The same functions per coordinate; the compiler pairs their lanes.
+        let k = x.map(|x| self.element_index(x));
+        let xi = [0, 1].map(|axis| self.local_coordinate(x[axis], k[axis], self.h));
         for axis in 0..2 {
             values[axis][0] = 1.0 - xi[axis];
             values[axis][1] = xi[axis];
