@@ -169,3 +169,42 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// Bilinear MPM's paired basis (MLS paper Eqs. 4–5): at a 2D point,
+    /// `evaluate_pair_of_width` gives each axis bit for bit what
+    /// `evaluate_of_width` gives that coordinate, for P1 (paired lanes) and
+    /// P2 (axis by axis), ends and nodes included; a coordinate outside
+    /// [a, b] is the scalar path's error.
+    #[test]
+    fn the_paired_basis_is_each_axis_basis_bit_for_bit(
+        elements in 1usize..40,
+        quadratic in any::<bool>(),
+        a in -3.0..3.0f64,
+        length in 0.5..4.0f64,
+        t in prop_oneof![0.0..=1.0f64, Just(0.0), Just(1.0)],
+        s in prop_oneof![0.0..=1.0f64, Just(0.0), Just(1.0)],
+        outside in 0usize..3,
+    ) {
+        let order = if quadratic { LagrangeOrder::Quadratic } else { LagrangeOrder::Linear };
+        let basis = LagrangeBasis::new(a, a + length, elements, order).unwrap();
+        let at = |t: f64| (a + t * length).min(a + length);
+        let mut x = [at(t), at(s)];
+        if outside < 2 {
+            x[outside] = a + length * 1.5;
+        }
+        fn both<const W: usize>(basis: &LagrangeBasis, x: [f64; 2]) -> (String, String) {
+            let (mut v, mut g) = ([[0.0; W]; 2], [[0.0; W]; 2]);
+            let paired = basis.evaluate_pair_of_width::<W>(x, &mut v, &mut g);
+            let paired = format!("{paired:?} {:?} {:?}", v.map(|r| r.map(f64::to_bits)), g.map(|r| r.map(f64::to_bits)));
+            let (mut v, mut g) = ([[0.0; W]; 2], [[0.0; W]; 2]);
+            let scalar = basis
+                .evaluate_of_width::<W>(x[0], &mut v[0], &mut g[0])
+                .and_then(|fx| basis.evaluate_of_width::<W>(x[1], &mut v[1], &mut g[1]).map(|fy| [fx, fy]));
+            let scalar = format!("{scalar:?} {:?} {:?}", v.map(|r| r.map(f64::to_bits)), g.map(|r| r.map(f64::to_bits)));
+            (paired, scalar)
+        }
+        let (paired, scalar) = if quadratic { both::<3>(&basis, x) } else { both::<2>(&basis, x) };
+        prop_assert_eq!(paired, scalar);
+    }
+}

@@ -226,7 +226,8 @@ fn the_fused_step_fails_where_and_as_the_step_pass_by_pass_fails() {
 
 /// The steps map the traction only when some particle carries one
 /// (`Particles::has_traction`, a scan without an early exit): ±0 are
-/// none; a subnormal, a NaN or a value on the last particle alone is one.
+/// none; a subnormal, a NaN or a value on the last particle alone is one,
+/// and so are two.
 #[test]
 fn a_traction_is_mapped_when_any_particle_carries_a_non_zero_one() {
     let mut p = hompm::mpm::particles::Particles::uniform(0.0, 1.0, 37, 1000.0).unwrap();
@@ -240,6 +241,8 @@ fn a_traction_is_mapped_when_any_particle_carries_a_non_zero_one() {
         let mut q = p.clone();
         q.traction[0] = value;
         assert!(q.has_traction(), "{value:e} on the first particle");
+        q.traction[20] = -1.0;
+        assert!(q.has_traction(), "{value:e} and −1 on two particles");
     }
 }
 
