@@ -23,8 +23,9 @@ either side of a target (then the verdict says which one is within it:
 were set on one host; the lean steps' own times are printed as that host's
 yardstick (docs/conventions.md, "Session 13"). The MLS and TLS cases also
 run the lean BSMPM step at the same size and print hompm's time in its
-units, a figure that moves little from host to host (on session 11's
-host: MLS 3.95 and 4.53, TLS 1.70 and 1.76 at 16 and 64 cells;
+units, a figure that moves less from host to host than nanoseconds do
+(about 10 % between session 11's host, MLS 3.95 and 4.53 and TLS 1.70 and
+1.76 at 16 and 64 cells, and session 15's, where the nanoseconds doubled;
 docs/conventions.md, "Session 15"); the verdict is the absolute one.
 
 Build the examples first, then run it on a quiet machine (no build, no
